@@ -1,0 +1,17 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace terramesh::cli {
+
+/// Exit codes shared by all subcommands.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;     ///< the job ran and failed (e.g. cannot write output)
+inline constexpr int kExitBadInput = 2;    ///< usage error or unreadable/invalid input
+
+/// Each subcommand: parses its own arguments, returns an exit code. Errors are reported by
+/// throwing (UsageError, InputError, std::exception); main prints them on one line.
+int runMesh(const std::vector<std::string>& args);
+
+}  // namespace terramesh::cli

@@ -1,0 +1,63 @@
+// terramesh: one CLI with subcommands; each lives in its own file.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "cli_args.h"
+#include "commands.h"
+#include "common/input_error.h"
+
+namespace {
+
+struct Command {
+  const char* name;
+  const char* summary;
+  int (*run)(const std::vector<std::string>&);
+};
+
+const Command kCommands[] = {
+    {"mesh", "incremental manifold mesh from a SLAM stream", terramesh::cli::runMesh},
+};
+
+void printUsage(std::ostream& out) {
+  out << "usage: terramesh COMMAND [options]   (terramesh COMMAND --help for details)\n\ncommands:\n";
+  for (const Command& command : kCommands) out << "  " << command.name << "\t" << command.summary << '\n';
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    printUsage(std::cerr);
+    return terramesh::cli::kExitBadInput;
+  }
+  const std::string name = argv[1];
+  if (name == "-h" || name == "--help" || name == "help") {
+    printUsage(std::cout);
+    return terramesh::cli::kExitOk;
+  }
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  for (const Command& command : kCommands) {
+    if (name != command.name) continue;
+    try {
+      return command.run(args);
+    } catch (const terramesh::cli::UsageError& error) {
+      std::cerr << "terramesh: " << error.what() << " (see terramesh " << name << " --help)\n";
+      return terramesh::cli::kExitBadInput;
+    } catch (const terramesh::InputError& error) {
+      std::cerr << "terramesh: " << error.what() << '\n';
+      return terramesh::cli::kExitBadInput;
+    } catch (const std::invalid_argument& error) {
+      std::cerr << "terramesh: " << error.what() << '\n';
+      return terramesh::cli::kExitBadInput;
+    } catch (const std::exception& error) {
+      std::cerr << "terramesh: " << error.what() << '\n';
+      return terramesh::cli::kExitFailure;
+    }
+  }
+  std::cerr << "terramesh: unknown command \"" << name << "\"\n";
+  printUsage(std::cerr);
+  return terramesh::cli::kExitBadInput;
+}

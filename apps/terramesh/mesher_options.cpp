@@ -1,0 +1,64 @@
+#include "mesher_options.h"
+
+#include <limits>
+
+namespace terramesh::cli {
+
+void declareMesherOptions(ArgParser& parser) {
+  parser
+      .option("--metres-per-unit", "S",
+              "size of one map unit in metres (default: from the stream, else 1; about 16.59 for "
+              "the ORB-SLAM KITTI 00 export)")
+      .option("--min-views", "N", "keyframes that must see a point before it is inserted", "2")
+      .option("--max-distance-m", "D", "ignore observations farther than this from their camera",
+              "40")
+      .option("--steiner-step-m", "L", "spacing of the Steiner grid", "10")
+      .option("--free-threshold", "T", "a cell is free space when its weight exceeds this "
+              "(default 20; 0 in litvinov13)")
+      .option("--move-threshold-m", "M", "moves of a point up to this are ignored", "0");
+}
+
+mesher::AxisAlignedBox streamBounds(const datasets::SlamStream& stream) {
+  mesher::AxisAlignedBox box;
+  box.min_W.setConstant(std::numeric_limits<double>::infinity());
+  box.max_W.setConstant(-std::numeric_limits<double>::infinity());
+  auto extend = [&box](const Eigen::Vector3d& p) {
+    box.min_W = box.min_W.cwiseMin(p);
+    box.max_W = box.max_W.cwiseMax(p);
+  };
+  for (const datasets::StreamEvent& event : stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+      extend(keyframe->position_W_C);
+      for (const auto& observation : keyframe->observations) extend(observation.position_W);
+    }
+  }
+  if (!box.min_W.allFinite()) {
+    box.min_W.setZero();
+    box.max_W.setZero();
+  }
+  return box;
+}
+
+mesher::MesherConfig mesherConfigFromArgs(const ArgParser& parser, mesher::MesherMode mode,
+                                          const datasets::SlamStream& stream) {
+  mesher::MesherConfig config = mesher::MesherConfig::forMode(mode);
+  config.metres_per_unit = parser.has("--metres-per-unit") ? parser.getDouble("--metres-per-unit")
+                           : stream.scale_known             ? stream.metres_per_unit
+                                                            : 1.0;
+  config.min_views = static_cast<int>(parser.getInt("--min-views"));
+  config.max_camera_distance_m = parser.getDouble("--max-distance-m");
+  config.steiner_step_m = parser.getDouble("--steiner-step-m");
+  if (parser.has("--free-threshold")) config.free_threshold = parser.getDouble("--free-threshold");
+  config.move_threshold_m = parser.getDouble("--move-threshold-m");
+  if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = streamBounds(stream);
+  const std::vector<std::string> problems = config.problems();
+  if (!problems.empty()) {
+    std::string message = "invalid options:";
+    for (const std::string& problem : problems) message += " " + problem + ";";
+    message.pop_back();
+    throw UsageError(message);
+  }
+  return config;
+}
+
+}  // namespace terramesh::cli

@@ -1,0 +1,54 @@
+#include "stats_table.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace terramesh::cli {
+
+std::string updateCsvHeader() {
+  return "event,kind,id,new_points,moved_points,removed_points,dropped_points,duplicate_points,"
+         "deferred_points,steiner_points,rays_traced,rays_retraced,rays_untraced,rays_skipped,"
+         "enclosing_cells,cells_shrunk,steiner_cells_shrunk,cells_grown,genus_pass_cells,"
+         "walk_steps,cache_lookups,cache_hits,walk_fallbacks,"
+         "time_steiner_s,time_shrink_s,time_insertion_s,time_ray_tracing_s,time_grow_s,time_total_s,"
+         "map_points,map_cells,map_outside_cells,map_rays,map_bytes";
+}
+
+std::string updateCsvRow(std::size_t event_index, const std::string& kind, std::uint64_t id,
+                         const mesher::UpdateStats& s, const mesher::MapSize& size) {
+  std::ostringstream row;
+  row << event_index << ',' << kind << ',' << id << ',' << s.new_points << ',' << s.moved_points
+      << ',' << s.removed_points << ',' << s.dropped_points << ',' << s.duplicate_points << ','
+      << s.deferred_points << ',' << s.steiner_points << ',' << s.rays_traced << ','
+      << s.rays_retraced << ',' << s.rays_untraced << ',' << s.rays_skipped << ','
+      << s.enclosing_cells << ',' << s.cells_shrunk << ',' << s.steiner_cells_shrunk << ','
+      << s.cells_grown << ',' << s.genus_pass_cells << ',' << s.walk_steps << ','
+      << s.cache_lookups << ',' << s.cache_hits << ',' << s.walk_fallbacks;
+  char buffer[256];
+  std::snprintf(buffer, sizeof(buffer), ",%.6e,%.6e,%.6e,%.6e,%.6e,%.6e", s.time.steiner_s,
+                s.time.shrink_s, s.time.insertion_s, s.time.ray_tracing_s, s.time.grow_s,
+                s.time.total_s);
+  row << buffer << ',' << size.inserted_points << ',' << size.cells << ',' << size.outside_cells
+      << ',' << size.rays << ',' << size.totalBytes();
+  return row.str();
+}
+
+void printStepTotals(std::ostream& out, const mesher::UpdateStats& t, std::size_t keyframes) {
+  char line[512];
+  std::snprintf(line, sizeof(line),
+                "time (s): steiner %.3f  shrink %.3f  insertion %.3f  ray tracing %.3f  grow %.3f  "
+                "total %.3f  (%.2f ms per keyframe)\n",
+                t.time.steiner_s, t.time.shrink_s, t.time.insertion_s, t.time.ray_tracing_s,
+                t.time.grow_s, t.time.total_s,
+                keyframes ? 1e3 * t.time.total_s / static_cast<double>(keyframes) : 0.0);
+  out << line;
+  std::snprintf(line, sizeof(line),
+                "points: %zu new, %zu moved, %zu removed, %zu dropped, %zu duplicate, %zu deferred; "
+                "rays: %zu traced, %zu retraced, %zu untraced; cells: %zu shrunk, %zu grown\n",
+                t.new_points, t.moved_points, t.removed_points, t.dropped_points, t.duplicate_points,
+                t.deferred_points, t.rays_traced, t.rays_retraced, t.rays_untraced, t.cells_shrunk,
+                t.cells_grown);
+  out << line;
+}
+
+}  // namespace terramesh::cli

@@ -1,0 +1,46 @@
+#pragma once
+
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "mesher/ids.h"
+#include "mesher/keyframe.h"
+
+namespace terramesh::mesher {
+class Mesher;
+struct UpdateStats;
+}  // namespace terramesh::mesher
+
+namespace terramesh::datasets {
+
+/// The SLAM system deleted these points.
+struct PointRemoval {
+  std::vector<mesher::PointId> points;
+};
+
+/// The SLAM system deleted this keyframe.
+struct KeyframeRemoval {
+  mesher::KeyframeId keyframe;
+};
+
+/// One message of a SLAM stream, in the order the SLAM system produced it.
+using StreamEvent = std::variant<mesher::Keyframe, PointRemoval, KeyframeRemoval>;
+
+/// A whole SLAM stream as read from a file.
+struct SlamStream {
+  std::vector<StreamEvent> events;
+  /// Size of one map unit in metres, when the source says it (1 for metric maps).
+  double metres_per_unit = 1.0;
+  /// Whether the source stated metres_per_unit (the authors' JSON does not).
+  bool scale_known = false;
+  /// Free text: where the stream came from.
+  std::string description;
+
+  std::size_t keyframeEventCount() const;
+};
+
+/// Feeds one event to the mesher and returns what the update did.
+mesher::UpdateStats applyEvent(mesher::Mesher& mesher, const StreamEvent& event);
+
+}  // namespace terramesh::datasets

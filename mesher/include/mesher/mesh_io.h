@@ -1,0 +1,23 @@
+#pragma once
+
+#include <filesystem>
+
+#include "mesher/triangle_mesh.h"
+
+namespace terramesh::mesher {
+
+/// Writes a binary little-endian PLY: vertex x y z (float64) and `steiner` (uchar, 1 for Steiner
+/// vertices) and face vertex_indices (uchar count, uint32 indices). Written atomically.
+/// @throw std::runtime_error if the file cannot be written.
+void writePly(const std::filesystem::path& path, const TriangleMesh& mesh);
+
+/// Writes a Wavefront OBJ (v and f records, 1-based). Written atomically.
+/// @throw std::runtime_error if the file cannot be written.
+void writeObj(const std::filesystem::path& path, const TriangleMesh& mesh);
+
+/// Reads a triangle mesh from PLY (ascii or binary, either endianness), OBJ or OFF, chosen by
+/// extension (.ply/.obj/.off). Reads a `steiner` vertex property when present.
+/// @throw terramesh::InputError naming the file and the offending line or element.
+TriangleMesh readMesh(const std::filesystem::path& path);
+
+}  // namespace terramesh::mesher

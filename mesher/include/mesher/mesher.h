@@ -1,0 +1,93 @@
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mesher/ids.h"
+#include "mesher/keyframe.h"
+#include "mesher/mesher_config.h"
+#include "mesher/triangle_mesh.h"
+#include "mesher/update_stats.h"
+
+namespace terramesh::mesher {
+
+/// Sizes of the map and an estimate of the memory it holds.
+struct MapSize {
+  std::size_t keyframes = 0;
+  std::size_t points = 0;           ///< points known (inserted or waiting)
+  std::size_t inserted_points = 0;  ///< points with a vertex in the triangulation
+  std::size_t steiner_vertices = 0;
+  std::size_t cells = 0;            ///< finite cells
+  std::size_t outside_cells = 0;    ///< cells in O
+  std::size_t rays = 0;             ///< stored visibility rays
+  std::size_t ray_crossings = 0;    ///< cells on stored ray paths, summed over rays
+
+  std::size_t triangulation_bytes = 0;  ///< vertices and cells
+  std::size_t ray_bytes = 0;            ///< ray records, paths and per-cell ray lists
+  std::size_t point_bytes = 0;          ///< point and keyframe records
+  std::size_t index_bytes = 0;          ///< id maps and the boundary hash
+  std::size_t totalBytes() const { return triangulation_bytes + ray_bytes + point_bytes + index_bytes; }
+};
+
+/// Result of Mesher::checkInvariants: every violation found, described in one line each.
+struct InvariantReport {
+  std::vector<std::string> violations;
+  bool ok() const { return violations.empty(); }
+  /// The first few violations joined, or "ok".
+  std::string summary(std::size_t max_lines = 5) const;
+};
+
+/// Incremental manifold mesh reconstruction from SLAM keyframes (Piazza et al., RA-L 2018).
+///
+/// Keeps a 3D Delaunay triangulation of the SLAM points plus a Steiner grid, a visibility weight
+/// per cell from camera-to-point rays, and a set O of free-space cells whose boundary is always a
+/// closed, oriented 2-manifold. Each update inserts, moves and removes points and rays exactly:
+/// after any sequence of updates the weights equal a from-scratch recomputation over the stored
+/// rays.
+///
+/// Not thread-safe: one thread at a time. Every update returns what it did and how long each
+/// step took; the library never prints.
+class Mesher {
+ public:
+  /// @throw std::invalid_argument if the configuration is invalid (see MesherConfig::validate).
+  explicit Mesher(const MesherConfig& config);
+  ~Mesher();
+  Mesher(Mesher&&) noexcept;
+  Mesher& operator=(Mesher&&) noexcept;
+  Mesher(const Mesher&) = delete;
+  Mesher& operator=(const Mesher&) = delete;
+
+  /// Integrates a keyframe, or replaces an earlier one with the same id (corrected pose, new
+  /// observation list). Observed points take the given positions: new points enter once seen by
+  /// `min_views` keyframes in range, inserted points that moved are removed and re-inserted.
+  /// @throw std::invalid_argument if a coordinate or the rotation is not finite, or the keyframe
+  ///        lists a point twice; the map is then unchanged.
+  UpdateStats integrateKeyframe(const Keyframe& keyframe);
+
+  /// Deletes points (e.g. culled by SLAM) with all their rays. Unknown ids are ignored.
+  UpdateStats removePoints(const std::vector<PointId>& points);
+
+  /// Deletes a keyframe and its rays; points left without any ray are removed too.
+  /// Unknown ids are ignored.
+  UpdateStats removeKeyframe(KeyframeId keyframe);
+
+  /// The boundary of O as a closed, consistently oriented 2-manifold (vertices include Steiner
+  /// vertices, flagged in `is_steiner`). O(number of cells).
+  TriangleMesh extractMesh() const;
+
+  MapSize size() const;
+  const MesherConfig& config() const;
+
+  /// Full consistency check, for tests: triangulation validity, every boundary vertex regular,
+  /// per-vertex counters, the boundary hash, ray paths equal to fresh walks, and cell weights
+  /// equal to a from-scratch recomputation over all stored rays. O(map size x ray length).
+  InvariantReport checkInvariants() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace terramesh::mesher

@@ -1,0 +1,80 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace terramesh::mesher {
+
+/// Which algorithm the pipeline runs. All three share the same code; the baselines switch off the
+/// techniques the paper (Piazza, Romanoni, Matteucci, RA-L 2018) adds.
+enum class MesherMode {
+  kProposed,    ///< the paper's method (default)
+  kLitvinov13,  ///< Litvinov & Lhuillier 2013: ray-count weights, fixed grid, camera-sphere enclosing
+  kRomanoni15,  ///< Romanoni & Matteucci 2015: as kLitvinov13 with inverse-cone weights
+};
+
+/// "proposed", "litvinov13" or "romanoni15".
+const char* toString(MesherMode mode);
+/// Parses the names printed by toString; std::nullopt for anything else.
+std::optional<MesherMode> parseMesherMode(const std::string& name);
+
+/// Axis-aligned box in the world frame, in map units.
+struct AxisAlignedBox {
+  Eigen::Vector3d min_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d max_W = Eigen::Vector3d::Zero();
+};
+
+/// Configuration of the mesher. Distances are in metres; `metres_per_unit` converts them into the
+/// units of the incoming map (1 for a metric map; about 16.6 for the ORB-SLAM KITTI 00 export).
+struct MesherConfig {
+  MesherMode mode = MesherMode::kProposed;
+
+  /// Size of one map unit in metres.
+  double metres_per_unit = 1.0;
+  /// A point enters the triangulation once this many keyframes within range have observed it.
+  int min_views = 2;
+  /// Observations farther than this from their camera are ignored (no ray, no vote).
+  double max_camera_distance_m = 40.0;
+  /// Spacing of the Steiner grid.
+  double steiner_step_m = 10.0;
+  /// Enclosing set: cells with a vertex within this many Steiner cells of a changed point.
+  int enclosing_radius_cells = 2;
+  /// The grid is kept at least this many cells beyond every point and camera.
+  int steiner_margin_cells = 3;
+
+  /// Inverse-cone weights: added to each crossed cell, to its face neighbours and to their
+  /// neighbours, per crossing. Stored internally in fixed point with 1/16 resolution.
+  double weight_crossed = 10.0;
+  double weight_neighbour = 2.0;
+  double weight_second_neighbour = 1.0;
+  /// A cell is free space when its weight is strictly above this.
+  double free_threshold = 20.0;
+  /// A point whose new estimate moved by no more than this keeps its vertex.
+  double move_threshold_m = 0.0;
+
+  /// Technique switches. `forMode` sets them; they can be changed for ablation studies.
+  bool incremental_steiner_grid = true;  ///< grow the grid with the map (else fixed_grid_bounds_W)
+  bool local_enclosing_set = true;       ///< enclosing set from grid cells around new points
+  bool boundary_hash = true;             ///< boundary vertices hashed by Steiner cell
+  bool next_cell_cache = true;           ///< next-tetrahedron caching in the ray walk
+  bool ray_scheduler = true;             ///< batch and de-duplicate trace/untrace/retrace
+  /// Region covered by the fixed Steiner grid when incremental_steiner_grid is false.
+  std::optional<AxisAlignedBox> fixed_grid_bounds_W;
+
+  /// The defaults of a mode: weights, threshold and technique switches.
+  static MesherConfig forMode(MesherMode mode);
+
+  /// Every problem with the configuration, one sentence each; empty when valid.
+  std::vector<std::string> problems() const;
+  /// @throw std::invalid_argument listing every problem, if any.
+  void validate() const;
+
+  /// Distances converted to map units.
+  double maxCameraDistanceUnits() const { return max_camera_distance_m / metres_per_unit; }
+  double steinerStepUnits() const { return steiner_step_m / metres_per_unit; }
+  double moveThresholdUnits() const { return move_threshold_m / metres_per_unit; }
+};
+
+}  // namespace terramesh::mesher

@@ -1,0 +1,51 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace terramesh::mesher {
+
+/// An indexed triangle mesh. Faces are wound counter-clockwise seen from free space, so face
+/// normals point out of the matter, towards the cameras.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  /// One flag per vertex: 1 for a Steiner (grid) vertex, 0 for a measured SLAM point.
+  /// Either empty (unknown) or the same size as `vertices`.
+  std::vector<std::uint8_t> is_steiner;
+
+  std::size_t vertexCount() const { return vertices.size(); }
+  std::size_t faceCount() const { return faces.size(); }
+};
+
+/// Topology summary of a triangle mesh, computed by `analyzeTopology`.
+struct MeshTopology {
+  std::size_t vertices = 0;             ///< vertices referenced by at least one face
+  std::size_t edges = 0;                ///< undirected edges
+  std::size_t faces = 0;
+  std::size_t boundary_edges = 0;       ///< edges with exactly one face
+  std::size_t non_manifold_edges = 0;   ///< edges with more than two faces
+  std::size_t non_manifold_vertices = 0;///< vertices whose faces form more than one fan
+  std::size_t orientation_errors = 0;   ///< directed edges used by more than one face
+  std::size_t components = 0;           ///< connected components (through shared vertices)
+  long euler_characteristic = 0;        ///< V - E + F over the referenced vertices
+  /// Sum over closed components of their genus (2 - chi) / 2; open components are skipped.
+  long total_genus = 0;
+
+  bool isClosedManifold() const {
+    return boundary_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 &&
+           orientation_errors == 0;
+  }
+};
+
+/// Counts vertices, edges, faces, components, genus and manifold defects. O(F log F).
+MeshTopology analyzeTopology(const TriangleMesh& mesh);
+
+/// Returns the open surface made of the faces that touch no Steiner vertex, with unreferenced
+/// vertices removed. Requires `mesh.is_steiner` to be filled.
+/// @throw std::invalid_argument if `is_steiner` does not match the vertex count.
+TriangleMesh dropSteinerFaces(const TriangleMesh& mesh);
+
+}  // namespace terramesh::mesher

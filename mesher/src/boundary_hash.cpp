@@ -1,0 +1,43 @@
+#include "boundary_hash.h"
+
+#include <cassert>
+
+namespace terramesh::mesher::internal {
+
+void BoundaryHash::insert(VertexHandle v, const GridKey& key) {
+  assert(v->info().hash_slot == kNone);
+  std::vector<VertexHandle>& vertices = buckets_[effectiveKey(key)];
+  v->info().hash_slot = static_cast<std::uint32_t>(vertices.size());
+  vertices.push_back(v);
+  ++size_;
+}
+
+void BoundaryHash::erase(VertexHandle v, const GridKey& key) {
+  const auto it = buckets_.find(effectiveKey(key));
+  assert(it != buckets_.end());
+  std::vector<VertexHandle>& vertices = it->second;
+  const std::uint32_t slot = v->info().hash_slot;
+  assert(slot < vertices.size() && vertices[slot] == v);
+  vertices[slot] = vertices.back();
+  vertices[slot]->info().hash_slot = slot;
+  vertices.pop_back();
+  v->info().hash_slot = kNone;
+  --size_;
+  if (vertices.empty()) buckets_.erase(it);
+}
+
+const std::vector<VertexHandle>* BoundaryHash::bucket(const GridKey& key) const {
+  const auto it = buckets_.find(effectiveKey(key));
+  return it == buckets_.end() ? nullptr : &it->second;
+}
+
+std::size_t BoundaryHash::memoryBytes() const {
+  std::size_t bytes = buckets_.bucket_count() * sizeof(void*);
+  for (const auto& [key, vertices] : buckets_) {
+    bytes += sizeof(key) + sizeof(vertices) + 2 * sizeof(void*) +
+             vertices.capacity() * sizeof(VertexHandle);
+  }
+  return bytes;
+}
+
+}  // namespace terramesh::mesher::internal

@@ -1,0 +1,127 @@
+#include "manifold_growing.h"
+
+namespace terramesh::mesher::internal {
+
+bool Grower::adjacentToOutside(const CellHandle& cell) const {
+  for (int i = 0; i < 4; ++i) {
+    if (cell->neighbor(i)->info().outside()) return true;
+  }
+  return false;
+}
+
+void Grower::push(const CellHandle& cell) {
+  CellInfo& info = cell->info();
+  if (info.flags & (kCellOutside | kCellQueued)) return;
+  if (!state_.weights.isFree(cell) || state_.tri.is_infinite(cell)) return;
+  info.flags |= kCellQueued;
+  queue_.push({info.weight, info.uid, cell});
+}
+
+void Grower::pushFreeNeighbours(const CellHandle& cell) {
+  for (int i = 0; i < 4; ++i) push(cell->neighbor(i));
+}
+
+void Grower::scanVertex(const VertexHandle& v) {
+  scratch_.clear();
+  state_.tri.incident_cells(v, std::back_inserter(scratch_));
+  for (const CellHandle& cell : scratch_) {
+    if (!cell->info().outside() && adjacentToOutside(cell)) push(cell);
+  }
+}
+
+void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, UpdateStats& stats) {
+  std::vector<StampedCell> candidates = state_.candidates.take();
+  touched_vertices_.clear();
+
+  // Bootstrap: an empty O starts from the freest candidate.
+  if (state_.outside.size() == 0) {
+    CellHandle best;
+    for (const StampedCell& c : candidates) {
+      if (!state_.alive(c) || state_.tri.is_infinite(c.cell) || !state_.weights.isFree(c.cell)) {
+        continue;
+      }
+      if (best == CellHandle() || c.cell->info().weight > best->info().weight) best = c.cell;
+    }
+    if (best != CellHandle()) {
+      state_.outside.add(best);
+      ++stats.cells_grown;
+      for (int i = 0; i < 4; ++i) touched_vertices_.push_back(best->vertex(i));
+      pushFreeNeighbours(best);
+    }
+  }
+  for (const StampedCell& c : candidates) {
+    if (!state_.alive(c)) continue;
+    c.cell->info().flags &= static_cast<std::uint8_t>(~kCellCandidate);
+    if (adjacentToOutside(c.cell)) push(c.cell);
+  }
+  if (region != nullptr) {
+    for (const GridKey& key : *region) {
+      const std::vector<VertexHandle>* bucket = state_.hash.bucket(key);
+      if (bucket == nullptr) continue;
+      for (const VertexHandle& v : *bucket) {
+        scanVertex(v);
+        touched_vertices_.push_back(v);
+      }
+    }
+  } else {
+    state_.hash.forEachVertex([this](const VertexHandle& v) {
+      scanVertex(v);
+      touched_vertices_.push_back(v);
+    });
+  }
+  drainQueue(stats);
+  genusPass(stats);
+}
+
+void Grower::drainQueue(UpdateStats& stats) {
+  OutsideSet& outside = state_.outside;
+  while (!queue_.empty()) {
+    const CellHandle cell = queue_.top().cell;
+    queue_.pop();
+    cell->info().flags &= static_cast<std::uint8_t>(~kCellQueued);
+    if (cell->info().outside()) continue;
+    if (!outside.canAdd(cell)) continue;
+    outside.add(cell);
+    ++stats.cells_grown;
+    for (int i = 0; i < 4; ++i) touched_vertices_.push_back(cell->vertex(i));
+    pushFreeNeighbours(cell);
+  }
+}
+
+void Grower::genusPass(UpdateStats& stats) {
+  // Vertices whose every incident cell is free but which are still on dO: adding their whole star
+  // at once may close a handle that no single-cell step can (each would pinch the surface).
+  const std::uint32_t mark = state_.nextVertexMark();
+  std::vector<CellHandle> star;
+  std::vector<CellHandle> to_add;
+  for (std::size_t i = 0; i < touched_vertices_.size(); ++i) {
+    const VertexHandle v = touched_vertices_[i];
+    if (v->info().mark == mark) continue;
+    v->info().mark = mark;
+    star.clear();
+    state_.tri.incident_cells(v, std::back_inserter(star));
+    to_add.clear();
+    bool all_free = true;
+    for (const CellHandle& cell : star) {
+      if (state_.tri.is_infinite(cell) || !state_.weights.isFree(cell)) {
+        all_free = false;
+        break;
+      }
+      if (!cell->info().outside()) to_add.push_back(cell);
+    }
+    if (!all_free || to_add.empty() || to_add.size() == star.size()) continue;
+    if (!state_.outside.canAddAll(to_add)) continue;
+    for (const CellHandle& cell : to_add) {
+      state_.outside.add(cell);
+      ++stats.cells_grown;
+      ++stats.genus_pass_cells;
+    }
+    for (const CellHandle& cell : to_add) {
+      for (int k = 0; k < 4; ++k) touched_vertices_.push_back(cell->vertex(k));
+      pushFreeNeighbours(cell);
+    }
+    drainQueue(stats);
+  }
+}
+
+}  // namespace terramesh::mesher::internal

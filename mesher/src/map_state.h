@@ -1,0 +1,73 @@
+#pragma once
+
+#include <cstdint>
+
+#include "boundary_hash.h"
+#include "cgal_types.h"
+#include "mesher/mesher_config.h"
+#include "outside_set.h"
+#include "point_registry.h"
+#include "ray_store.h"
+#include "steiner_grid.h"
+#include "visibility_weights.h"
+
+namespace terramesh::mesher::internal {
+
+/// Everything the mesher holds: the triangulation and the side structures kept in step with it.
+/// The pipeline steps (editor, tracer, shrinker, grower) operate on one MapState.
+struct MapState {
+  explicit MapState(const MesherConfig& cfg)
+      : config(cfg),
+        grid(cfg.steinerStepUnits()),
+        hash(cfg.boundary_hash),
+        outside(tri, grid, hash),
+        weights(cfg.weight_crossed, cfg.weight_neighbour, cfg.weight_second_neighbour,
+                cfg.free_threshold) {}
+
+  MapState(const MapState&) = delete;
+  MapState& operator=(const MapState&) = delete;
+
+  /// True if the stamped cell still exists (not destroyed by a topology change since stamped).
+  bool alive(const StampedCell& stamped) const {
+    return stamped.cell != CellHandle() && tri.tds().cells().is_used(stamped.cell) &&
+           stamped.cell->info().uid == stamped.uid;
+  }
+  StampedCell stamp(const CellHandle& cell) const { return {cell, cell->info().uid}; }
+
+  /// A fresh value for CellInfo::mark, distinct from every mark currently stored.
+  std::uint32_t nextMark() {
+    if (++mark_epoch == 0) {
+      for (auto cell = tri.all_cells_begin(); cell != tri.all_cells_end(); ++cell) cell->info().mark = 0;
+      mark_epoch = 1;
+    }
+    return mark_epoch;
+  }
+
+  /// A fresh value for VertexInfo::mark, distinct from every mark currently stored.
+  std::uint32_t nextVertexMark() {
+    if (++vertex_mark_epoch == 0) {
+      for (auto v = tri.all_vertices_begin(); v != tri.all_vertices_end(); ++v) v->info().mark = 0;
+      vertex_mark_epoch = 1;
+    }
+    return vertex_mark_epoch;
+  }
+
+  /// Gives a new unique stamp to a freshly created cell.
+  void stampNewCell(const CellHandle& cell) { cell->info().uid = next_uid++; }
+
+  MesherConfig config;
+  Delaunay tri;
+  SteinerGrid grid;
+  BoundaryHash hash;
+  OutsideSet outside;
+  RayStore rays;
+  PointRegistry registry;
+  WeightField weights;
+  GrowCandidates candidates;
+  std::size_t steiner_vertices = 0;
+  std::uint32_t next_uid = 1;
+  std::uint32_t mark_epoch = 0;
+  std::uint32_t vertex_mark_epoch = 0;
+};
+
+}  // namespace terramesh::mesher::internal

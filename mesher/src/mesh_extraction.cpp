@@ -1,0 +1,61 @@
+#include <unordered_map>
+
+#include "mesher_impl.h"
+
+namespace terramesh::mesher {
+
+using internal::CellHandle;
+using internal::kRayMarked;
+using internal::kRayNeedsTrace;
+using internal::kRayTraced;
+using internal::VertexHandle;
+
+TriangleMesh Mesher::Impl::extractMesh() const {
+  TriangleMesh mesh;
+  std::unordered_map<const internal::Delaunay::Vertex*, std::uint32_t> index;
+  auto vertexIndex = [&](const VertexHandle& v) {
+    const auto [it, inserted] = index.try_emplace(&*v, static_cast<std::uint32_t>(mesh.vertices.size()));
+    if (inserted) {
+      mesh.vertices.push_back(internal::toEigen(v->point()));
+      mesh.is_steiner.push_back(v->info().steiner ? 1 : 0);
+    }
+    return it->second;
+  };
+  for (auto cell = state_.tri.finite_cells_begin(); cell != state_.tri.finite_cells_end(); ++cell) {
+    if (!cell->info().outside()) continue;
+    for (int i = 0; i < 4; ++i) {
+      if (cell->neighbor(i)->info().outside()) continue;
+      // CGAL's vertex_triple_index winds the facet with its normal into the cell, i.e. into free
+      // space: the orientation the output mesh uses.
+      std::array<std::uint32_t, 3> face{};
+      for (int k = 0; k < 3; ++k) {
+        face[static_cast<std::size_t>(k)] =
+            vertexIndex(cell->vertex(internal::Delaunay::vertex_triple_index(i, k)));
+      }
+      mesh.faces.push_back(face);
+    }
+  }
+  return mesh;
+}
+
+MapSize Mesher::Impl::size() const {
+  MapSize size;
+  size.keyframes = state_.registry.keyframeCount();
+  size.points = state_.registry.pointCount();
+  size.steiner_vertices = state_.steiner_vertices;
+  const std::size_t vertices = state_.tri.number_of_vertices();
+  size.inserted_points = vertices - state_.steiner_vertices;
+  size.cells = state_.tri.number_of_finite_cells();
+  size.outside_cells = state_.outside.size();
+  size.rays = state_.rays.size();
+  size.ray_crossings = state_.rays.totalCrossings();
+  const std::size_t all_cells = state_.tri.tds().number_of_cells();
+  size.triangulation_bytes = (vertices + 1) * sizeof(internal::Delaunay::Vertex) +
+                             all_cells * sizeof(internal::Delaunay::Cell);
+  size.ray_bytes = state_.rays.memoryBytes();
+  size.point_bytes = state_.registry.pointBytes();
+  size.index_bytes = state_.registry.indexBytes() + state_.hash.memoryBytes();
+  return size;
+}
+
+}  // namespace terramesh::mesher

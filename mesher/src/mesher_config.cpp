@@ -1,0 +1,93 @@
+#include "mesher/mesher_config.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace terramesh::mesher {
+
+const char* toString(MesherMode mode) {
+  switch (mode) {
+    case MesherMode::kProposed:
+      return "proposed";
+    case MesherMode::kLitvinov13:
+      return "litvinov13";
+    case MesherMode::kRomanoni15:
+      return "romanoni15";
+  }
+  return "unknown";
+}
+
+std::optional<MesherMode> parseMesherMode(const std::string& name) {
+  for (MesherMode mode : {MesherMode::kProposed, MesherMode::kLitvinov13, MesherMode::kRomanoni15}) {
+    if (name == toString(mode)) return mode;
+  }
+  return std::nullopt;
+}
+
+MesherConfig MesherConfig::forMode(MesherMode mode) {
+  MesherConfig config;
+  config.mode = mode;
+  if (mode == MesherMode::kProposed) return config;
+  config.incremental_steiner_grid = false;
+  config.local_enclosing_set = false;
+  config.boundary_hash = false;
+  config.next_cell_cache = false;
+  config.ray_scheduler = false;
+  if (mode == MesherMode::kLitvinov13) {
+    // Litvinov & Lhuillier 2013: a cell is free space once any ray crosses it.
+    config.weight_crossed = 1.0;
+    config.weight_neighbour = 0.0;
+    config.weight_second_neighbour = 0.0;
+    config.free_threshold = 0.0;
+  }
+  return config;
+}
+
+std::vector<std::string> MesherConfig::problems() const {
+  std::vector<std::string> found;
+  auto require = [&found](bool ok, const std::string& message) {
+    if (!ok) found.push_back(message);
+  };
+  auto finite = [](double value) { return std::isfinite(value); };
+  require(finite(metres_per_unit) && metres_per_unit > 0, "metres_per_unit must be positive");
+  require(min_views >= 1, "min_views must be at least 1");
+  require(finite(max_camera_distance_m) && max_camera_distance_m > 0,
+          "max_camera_distance_m must be positive");
+  require(finite(steiner_step_m) && steiner_step_m > 0, "steiner_step_m must be positive");
+  require(enclosing_radius_cells >= 1 && enclosing_radius_cells <= 8,
+          "enclosing_radius_cells must be in [1, 8]");
+  require(steiner_margin_cells >= 1 && steiner_margin_cells <= 16,
+          "steiner_margin_cells must be in [1, 16]");
+  for (const auto& [value, name] : {std::pair{weight_crossed, "weight_crossed"},
+                                    std::pair{weight_neighbour, "weight_neighbour"},
+                                    std::pair{weight_second_neighbour, "weight_second_neighbour"}}) {
+    require(finite(value) && value >= 0 && value <= 1e4,
+            std::string(name) + " must be in [0, 10000]");
+  }
+  require(weight_crossed > 0, "weight_crossed must be positive");
+  require(finite(free_threshold) && free_threshold >= 0, "free_threshold must be non-negative");
+  require(finite(move_threshold_m) && move_threshold_m >= 0, "move_threshold_m must be non-negative");
+  if (!incremental_steiner_grid) {
+    require(fixed_grid_bounds_W.has_value(),
+            "fixed_grid_bounds_W is required when incremental_steiner_grid is off");
+    if (fixed_grid_bounds_W) {
+      const auto& box = *fixed_grid_bounds_W;
+      require(box.min_W.allFinite() && box.max_W.allFinite() &&
+                  (box.max_W.array() >= box.min_W.array()).all(),
+              "fixed_grid_bounds_W must be finite with max >= min");
+    }
+  }
+  return found;
+}
+
+void MesherConfig::validate() const {
+  const std::vector<std::string> found = problems();
+  if (found.empty()) return;
+  std::ostringstream message;
+  message << "invalid MesherConfig: ";
+  for (std::size_t i = 0; i < found.size(); ++i) message << (i ? "; " : "") << found[i];
+  throw std::invalid_argument(message.str());
+}
+
+}  // namespace terramesh::mesher

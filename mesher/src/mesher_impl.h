@@ -1,0 +1,77 @@
+#pragma once
+
+#include <optional>
+#include <unordered_set>
+#include <vector>
+
+#include "manifold_growing.h"
+#include "map_state.h"
+#include "mesher/mesher.h"
+#include "shrinking.h"
+#include "step_clock.h"
+#include "triangulation_editor.h"
+#include "visibility_tracer.h"
+
+namespace terramesh::mesher {
+
+/// The mesher's state and pipeline. Steps live in their own classes (internal::TriangulationEditor,
+/// VisibilityTracer, Shrinker, Grower); this class does the bookkeeping of points, keyframes and
+/// rays and runs the steps in the paper's order.
+class Mesher::Impl {
+ public:
+  explicit Impl(const MesherConfig& config);
+
+  UpdateStats integrateKeyframe(const Keyframe& keyframe);
+  UpdateStats removePoints(const std::vector<PointId>& points);
+  UpdateStats removeKeyframe(KeyframeId keyframe);
+
+  TriangleMesh extractMesh() const;
+  MapSize size() const;
+  InvariantReport checkInvariants() const;
+  const MesherConfig& config() const { return state_.config; }
+
+ private:
+  /// What one update has to do, filled by the bookkeeping and consumed by `run`.
+  struct UpdatePlan {
+    std::vector<std::uint32_t> insert;  ///< points to insert for the first time (or again)
+    std::vector<std::uint32_t> move;    ///< inserted points with a new estimate
+    std::vector<std::uint32_t> remove;  ///< inserted points to delete
+    std::vector<std::uint32_t> forget;  ///< records to erase once the update is done
+    std::vector<internal::RayId> untrace_now;  ///< rays whose segment changes or that go away
+    std::vector<internal::RayId> destroy;      ///< rays to free after untracing
+    std::vector<internal::RayId> trace;        ///< rays to walk at the end (new segments)
+    std::vector<Eigen::Vector3d> cameras;      ///< camera centres involved
+    std::uint32_t pose_changed = internal::kNone;  ///< keyframe whose pose changed, if any
+  };
+
+  // Bookkeeping.
+  void classifyPoint(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);
+  void reconcileRays(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);
+  void createRays(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);
+  void detachRay(std::uint32_t point, std::size_t slot, UpdatePlan& plan);
+  std::size_t viewsInRange(const internal::PointRecord& point, const Eigen::Vector3d& at) const;
+  bool rayWanted(std::uint32_t keyframe, const Eigen::Vector3d& at, bool& degenerate) const;
+
+  // Pipeline.
+  UpdateStats run(UpdatePlan& plan, UpdateStats stats);
+  void growSteinerGrid(const UpdatePlan& plan, UpdateStats& stats);
+  void insertSteinerNode(const Eigen::Vector3d& node, UpdateStats& stats);
+  std::optional<std::unordered_set<internal::GridKey, internal::GridKeyHash>> shrink(
+      const UpdatePlan& plan, UpdateStats& stats);
+  void changeTopology(UpdatePlan& plan, UpdateStats& stats, internal::StepClock& clock);
+  void traceNow(std::vector<internal::RayId>& rays, UpdateStats& stats, bool count_as_retrace);
+  void traceScheduled(UpdatePlan& plan, UpdateStats& stats);
+  void untraceAndDestroyRaysOf(std::uint32_t point, UpdateStats& stats);
+
+  internal::MapState state_;
+  internal::VisibilityTracer tracer_;
+  internal::TriangulationEditor editor_;
+  internal::Shrinker shrinker_;
+  internal::Grower grower_;
+  /// Explicit removals refused because the star still touched O; retried every update.
+  std::vector<std::uint32_t> pending_removals_;
+  /// Rays flagged kRayNeedsTrace by topology changes of the current update.
+  std::vector<internal::RayId> retrace_;
+};
+
+}  // namespace terramesh::mesher

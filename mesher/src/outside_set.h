@@ -1,0 +1,49 @@
+#pragma once
+
+#include <vector>
+
+#include "boundary_hash.h"
+#include "cgal_types.h"
+#include "manifold_test.h"
+#include "steiner_grid.h"
+
+namespace terramesh::mesher::internal {
+
+/// The outside set O: free-space cells whose boundary is the output surface. Keeps the per-vertex
+/// count of incident O-cells and the boundary hash in step with every change, and answers whether
+/// a change keeps the boundary a 2-manifold.
+class OutsideSet {
+ public:
+  OutsideSet(const Delaunay& tri, const SteinerGrid& grid, BoundaryHash& hash)
+      : tri_(tri), grid_(grid), hash_(hash) {}
+
+  std::size_t size() const { return size_; }
+
+  /// True if adding `cell` (not in O, finite) keeps every boundary vertex regular.
+  bool canAdd(CellHandle cell);
+  /// True if removing `cell` (in O) keeps every boundary vertex regular.
+  bool canRemove(CellHandle cell);
+  /// True if adding all `cells` (none in O, all finite) at once keeps the boundary manifold.
+  bool canAddAll(const std::vector<CellHandle>& cells);
+
+  void add(CellHandle cell);
+  void remove(CellHandle cell);
+
+  /// Regularity of `v` for the current O (invariant checks).
+  bool isRegular(VertexHandle v);
+
+  /// Hash key of a vertex: the Steiner cell containing it.
+  GridKey keyOf(VertexHandle v) const { return grid_.cellOf(toEigen(v->point())); }
+
+ private:
+  void vertexGainedCell(VertexHandle v);
+  void vertexLostCell(VertexHandle v);
+
+  const Delaunay& tri_;
+  const SteinerGrid& grid_;
+  BoundaryHash& hash_;
+  VertexRegularityTest test_;
+  std::size_t size_ = 0;
+};
+
+}  // namespace terramesh::mesher::internal

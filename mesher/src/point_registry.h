@@ -1,0 +1,80 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "cgal_types.h"
+#include "mesher/ids.h"
+#include "ray_store.h"
+
+namespace terramesh::mesher::internal {
+
+/// A SLAM point as the mesher knows it.
+struct PointRecord {
+  PointId id;
+  bool alive = false;
+  /// Latest estimate received from SLAM.
+  Eigen::Vector3d latest_W = Eigen::Vector3d::Zero();
+  /// Position of its vertex; meaningful while `vertex` is set.
+  Eigen::Vector3d inserted_W = Eigen::Vector3d::Zero();
+  /// Its vertex in the triangulation; default (null) while not inserted.
+  VertexHandle vertex;
+  /// Keyframes that observe it (KeyframeRegistry indices), in no order.
+  std::vector<std::uint32_t> keyframes;
+  /// Its stored rays, one per keyframe within range; only while inserted.
+  std::vector<RayId> rays;
+
+  bool inserted() const { return vertex != VertexHandle(); }
+};
+
+/// A keyframe as the mesher knows it.
+struct KeyframeRecord {
+  KeyframeId id;
+  bool alive = false;
+  Eigen::Vector3d centre_W = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond rotation_W_C = Eigen::Quaterniond::Identity();
+  /// Points it observes (PointRegistry indices).
+  std::vector<std::uint32_t> points;
+  /// Last cell found to contain the camera: a hint for locating it again.
+  StampedCell camera_hint;
+};
+
+/// Points and keyframes by external id, with dense recycled indices.
+class PointRegistry {
+ public:
+  /// Index of the point with `id`, creating a record if unknown.
+  std::uint32_t findOrCreatePoint(PointId id);
+  /// Index of the point with `id`, or kNone.
+  std::uint32_t findPoint(PointId id) const;
+  void erasePoint(std::uint32_t index);
+
+  std::uint32_t findOrCreateKeyframe(KeyframeId id, bool& created);
+  std::uint32_t findKeyframe(KeyframeId id) const;
+  void eraseKeyframe(std::uint32_t index);
+
+  PointRecord& point(std::uint32_t index) { return points_[index]; }
+  const PointRecord& point(std::uint32_t index) const { return points_[index]; }
+  KeyframeRecord& keyframe(std::uint32_t index) { return keyframes_[index]; }
+  const KeyframeRecord& keyframe(std::uint32_t index) const { return keyframes_[index]; }
+
+  std::size_t pointSlots() const { return points_.size(); }
+  std::size_t keyframeSlots() const { return keyframes_.size(); }
+  std::size_t pointCount() const { return point_index_.size(); }
+  std::size_t keyframeCount() const { return keyframe_index_.size(); }
+
+  std::size_t pointBytes() const;
+  std::size_t indexBytes() const;
+
+ private:
+  std::vector<PointRecord> points_;
+  std::vector<std::uint32_t> free_points_;
+  std::unordered_map<PointId, std::uint32_t> point_index_;
+  std::vector<KeyframeRecord> keyframes_;
+  std::vector<std::uint32_t> free_keyframes_;
+  std::unordered_map<KeyframeId, std::uint32_t> keyframe_index_;
+};
+
+}  // namespace terramesh::mesher::internal

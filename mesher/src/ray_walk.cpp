@@ -1,0 +1,151 @@
+#include "ray_walk.h"
+
+#include <array>
+
+namespace terramesh::mesher::internal {
+namespace {
+
+/// Orientation signs of (q, p, a, b) computed on demand and memoised per walk step.
+class LazySigns {
+ public:
+  void reset() { known_.fill(false); }
+  template <class Compute>
+  CGAL::Orientation get(int index, Compute compute) {
+    if (!known_[static_cast<std::size_t>(index)]) {
+      value_[static_cast<std::size_t>(index)] = compute();
+      known_[static_cast<std::size_t>(index)] = true;
+    }
+    return value_[static_cast<std::size_t>(index)];
+  }
+
+ private:
+  std::array<bool, 6> known_{};
+  std::array<CGAL::Orientation, 6> value_{};
+};
+
+/// Index 0..5 of the edge (a, b) of a tetrahedron, a != b local vertex indices.
+int edgeIndex(int a, int b) {
+  static constexpr int kTable[4][4] = {{-1, 0, 1, 2}, {0, -1, 3, 4}, {1, 3, -1, 5}, {2, 4, 5, -1}};
+  return kTable[a][b];
+}
+
+constexpr std::size_t kMaxSteps = 50'000'000;
+
+}  // namespace
+
+void RayWalker::walk(const CameraLocation& camera, VertexHandle target,
+                     std::vector<CellHandle>& path, WalkCounters& counters) const {
+  path.clear();
+  if (camera.type == Delaunay::CELL && walkStraight(camera, target, path, counters)) return;
+  ++counters.fallbacks;
+  walkWithTraverser(camera, target, path);
+}
+
+bool RayWalker::walkStraight(const CameraLocation& camera, VertexHandle target,
+                             std::vector<CellHandle>& path, WalkCounters& counters) const {
+  const auto orientation = tri_.geom_traits().orientation_3_object();
+  const Point& q = camera.position;
+  const Point& p = target->point();
+  CellHandle cell = camera.cell;
+  if (tri_.is_infinite(cell)) return false;
+  path.push_back(cell);
+  if (cell->has_vertex(target)) return true;
+
+  // First cell: the camera is inside; the segment leaves through the facet whose three edges
+  // (wound outwards) all see the line q->p on their positive side.
+  int exit = -1;
+  {
+    LazySigns edge_signs;
+    edge_signs.reset();
+    auto side = [&](int a, int b) {
+      const CGAL::Orientation s = edge_signs.get(edgeIndex(a, b), [&] {
+        return orientation(q, p, cell->vertex(a < b ? a : b)->point(),
+                           cell->vertex(a < b ? b : a)->point());
+      });
+      return a < b ? s : -s;
+    };
+    for (int j = 0; j < 4 && exit < 0; ++j) {
+      const int a = outwardFacetVertex(j, 0);
+      const int b = outwardFacetVertex(j, 1);
+      const int c = outwardFacetVertex(j, 2);
+      if (side(a, b) == CGAL::POSITIVE && side(b, c) == CGAL::POSITIVE &&
+          side(c, a) == CGAL::POSITIVE) {
+        exit = j;
+      }
+    }
+  }
+  if (exit < 0) return false;
+
+  std::size_t steps = 0;
+  while (true) {
+    if (use_cache_) cell->info().next_facet = static_cast<std::uint8_t>(exit);
+    const CellHandle next = cell->neighbor(exit);
+    const int entry = next->index(cell);
+    cell = next;
+    path.push_back(cell);
+    ++counters.steps;
+    if (++steps > kMaxSteps || tri_.is_infinite(cell)) return false;
+    const VertexHandle apex = cell->vertex(entry);
+    if (apex == target) return true;
+
+    // Candidate facet j != entry, wound outwards and rotated to (apex, a, b): the segment leaves
+    // through it iff orient(q,p,apex,a) > 0 and orient(q,p,apex,b) < 0.
+    std::array<CGAL::Orientation, 4> t{};
+    std::array<bool, 4> known{};
+    auto sign_to = [&](int local) {
+      if (!known[static_cast<std::size_t>(local)]) {
+        t[static_cast<std::size_t>(local)] =
+            orientation(q, p, apex->point(), cell->vertex(local)->point());
+        known[static_cast<std::size_t>(local)] = true;
+      }
+      return t[static_cast<std::size_t>(local)];
+    };
+    auto leaves_through = [&](int j) {
+      int a = -1;
+      int b = -1;
+      for (int k = 0; k < 3; ++k) {
+        if (outwardFacetVertex(j, k) == entry) {
+          a = outwardFacetVertex(j, (k + 1) % 3);
+          b = outwardFacetVertex(j, (k + 2) % 3);
+        }
+      }
+      return sign_to(a) == CGAL::POSITIVE && sign_to(b) == CGAL::NEGATIVE;
+    };
+
+    exit = -1;
+    int tested = -1;
+    if (use_cache_) {
+      const int cached = cell->info().next_facet;
+      if (cached < 4 && cached != entry) {
+        ++counters.cache_lookups;
+        tested = cached;
+        if (leaves_through(cached)) {
+          ++counters.cache_hits;
+          exit = cached;
+        }
+      }
+    }
+    for (int j = 0; j < 4 && exit < 0; ++j) {
+      if (j != entry && j != tested && leaves_through(j)) exit = j;
+    }
+    if (exit < 0) return false;
+  }
+}
+
+void RayWalker::walkWithTraverser(const CameraLocation& camera, VertexHandle target,
+                                  std::vector<CellHandle>& path) const {
+  path.clear();
+  auto collect = [&](auto cells) {
+    for (CellHandle cell : cells) {
+      path.push_back(cell);
+      if (cell->has_vertex(target)) return;
+    }
+  };
+  if (camera.type == Delaunay::VERTEX) {
+    collect(tri_.segment_traverser_cell_handles(camera.cell->vertex(camera.li), target));
+  } else {
+    collect(tri_.segment_traverser_cell_handles(camera.position, target->point(), camera.cell));
+  }
+}
+
+}  // namespace terramesh::mesher::internal

@@ -1,0 +1,53 @@
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "cgal_types.h"
+
+namespace terramesh::mesher::internal {
+
+/// Counters of the walks done in one update.
+struct WalkCounters {
+  std::size_t steps = 0;
+  std::size_t cache_lookups = 0;
+  std::size_t cache_hits = 0;
+  std::size_t fallbacks = 0;
+};
+
+/// Where a camera lies in the triangulation (from Delaunay::locate).
+struct CameraLocation {
+  Point position;
+  CellHandle cell;
+  Delaunay::Locate_type type = Delaunay::OUTSIDE_AFFINE_HULL;
+  int li = -1;
+  int lj = -1;
+};
+
+/// Walks the cells crossed by the segment from a camera to a point vertex, with exact orientation
+/// predicates. In each cell the segment enters through one facet and leaves through the unique
+/// facet whose interior it crosses: with the next-tetrahedron cache, the facet the previous ray
+/// left the cell by is tested first (2 predicates when right). The set of cells is a function of
+/// the segment and the triangulation only; the cache changes the order of tests, never the result.
+/// When the segment passes exactly through an edge or vertex (no facet crossed strictly), the ray
+/// is walked by CGAL's segment traverser instead.
+class RayWalker {
+ public:
+  RayWalker(const Delaunay& tri, bool use_cache) : tri_(tri), use_cache_(use_cache) {}
+
+  /// Appends to `path` (cleared first) the cells crossed from the camera to `target`, camera end
+  /// first; the last cell is incident to `target`.
+  void walk(const CameraLocation& camera, VertexHandle target, std::vector<CellHandle>& path,
+            WalkCounters& counters) const;
+
+ private:
+  bool walkStraight(const CameraLocation& camera, VertexHandle target,
+                    std::vector<CellHandle>& path, WalkCounters& counters) const;
+  void walkWithTraverser(const CameraLocation& camera, VertexHandle target,
+                         std::vector<CellHandle>& path) const;
+
+  const Delaunay& tri_;
+  bool use_cache_;
+};
+
+}  // namespace terramesh::mesher::internal

@@ -1,0 +1,54 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "grid_key.h"
+
+namespace terramesh::mesher::internal {
+
+/// The lattice of Steiner points, spacing `step` map units. Cell (i,j,k) spans the nodes i..i+1 on
+/// each axis. The grid grows by whole layers of nodes, so it always fills an axis-aligned box of
+/// nodes [lo, hi] (inclusive, per axis).
+///
+/// The lattice is offset from the first camera by an irregular fraction of the step, so that
+/// synthetic data on round coordinates does not sit exactly on Steiner nodes or planes.
+class SteinerGrid {
+ public:
+  explicit SteinerGrid(double step);
+
+  double step() const { return step_; }
+  bool empty() const { return !initialized_; }
+
+  /// Cell containing `p`. Requires the origin to be set (first call to coverNodes).
+  GridKey cellOf(const Eigen::Vector3d& p) const;
+  /// Position of lattice node `node`.
+  Eigen::Vector3d nodePosition(const GridKey& node) const;
+
+  /// Grows the grid so that its nodes cover cells key-margin .. key+margin of the cell containing
+  /// `p`, and returns the positions of the nodes added (empty if none). The first call fixes the
+  /// origin relative to `p`.
+  std::vector<Eigen::Vector3d> coverPoint(const Eigen::Vector3d& p, int margin_cells);
+
+  /// Grows the grid to cover the box [min, max] plus margin cells; returns the nodes added.
+  std::vector<Eigen::Vector3d> coverBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
+                                        int margin_cells);
+
+  /// True if cell `key` lies at least `margin_cells` inside the node box.
+  bool coversCell(const GridKey& key, int margin_cells) const;
+
+  GridKey lowerNode() const { return lo_; }
+  GridKey upperNode() const { return hi_; }
+  std::size_t nodeCount() const;
+
+ private:
+  std::vector<Eigen::Vector3d> growNodeBox(const GridKey& lo, const GridKey& hi);
+
+  double step_;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  bool initialized_ = false;
+  GridKey lo_;
+  GridKey hi_;
+};
+
+}  // namespace terramesh::mesher::internal

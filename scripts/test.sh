@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds in Release and runs the whole test suite. Exits non-zero on any
+# failure.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install_deps.sh
+scripts/build.sh
+cd build
+ctest --output-on-failure -j "${TERRAMESH_JOBS:-$(nproc)}"
