@@ -9,7 +9,9 @@ void declareMesherOptions(ArgParser& parser) {
       .option("--metres-per-unit", "S",
               "size of one map unit in metres (default: from the stream, else 1; about 16.59 for "
               "the ORB-SLAM KITTI 00 export)")
-      .option("--min-views", "N", "keyframes that must see a point before it is inserted", "2")
+      .option("--min-views", "N",
+              "keyframes that must see a point before it is inserted (default 2, or what the "
+              "stream advises: 1 for LiDAR)")
       .option("--max-distance-m", "D", "ignore observations farther than this from their camera",
               "40")
       .option("--steiner-step-m", "L", "spacing of the Steiner grid", "10")
@@ -45,7 +47,11 @@ mesher::MesherConfig mesherConfigFromArgs(const ArgParser& parser, mesher::Meshe
   config.metres_per_unit = parser.has("--metres-per-unit") ? parser.getDouble("--metres-per-unit")
                            : stream.scale_known             ? stream.metres_per_unit
                                                             : 1.0;
-  config.min_views = static_cast<int>(parser.getInt("--min-views"));
+  if (parser.has("--min-views")) {
+    config.min_views = static_cast<int>(parser.getInt("--min-views"));
+  } else if (stream.recommended_min_views > 0) {
+    config.min_views = stream.recommended_min_views;
+  }
   config.max_camera_distance_m = parser.getDouble("--max-distance-m");
   config.steiner_step_m = parser.getDouble("--steiner-step-m");
   if (parser.has("--free-threshold")) config.free_threshold = parser.getDouble("--free-threshold");

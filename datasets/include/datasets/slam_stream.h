@@ -34,6 +34,9 @@ struct SlamStream {
   double metres_per_unit = 1.0;
   /// Whether the source stated metres_per_unit (the authors' JSON does not).
   bool scale_known = false;
+  /// Views a point needs before insertion that suits this source (0: no advice). LiDAR streams,
+  /// where every return is seen once, advise 1.
+  int recommended_min_views = 0;
   /// Free text: where the stream came from.
   std::string description;
 

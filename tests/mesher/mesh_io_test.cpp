@@ -1,0 +1,86 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "common/input_error.h"
+#include "mesher/mesh_io.h"
+
+namespace terramesh::mesher {
+namespace {
+
+namespace fs = std::filesystem;
+
+class MeshIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("terramesh_mesh_io_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static TriangleMesh sample() {
+    TriangleMesh mesh;
+    mesh.vertices = {{0.1, 0.2, 0.3}, {1e6, -2.5, 3}, {0, 1, 0}, {0, 0, 1}};
+    mesh.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+    mesh.is_steiner = {0, 1, 0, 1};
+    return mesh;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(MeshIoTest, PlyRoundTripKeepsPositionsFacesAndSteinerFlags) {
+  const TriangleMesh mesh = sample();
+  writePly(dir_ / "m.ply", mesh);
+  const TriangleMesh read = readMesh(dir_ / "m.ply");
+  ASSERT_EQ(read.vertices.size(), mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) EXPECT_EQ(read.vertices[i], mesh.vertices[i]);
+  EXPECT_EQ(read.faces, mesh.faces);
+  EXPECT_EQ(read.is_steiner, mesh.is_steiner);
+}
+
+TEST_F(MeshIoTest, ObjRoundTrip) {
+  const TriangleMesh mesh = sample();
+  writeObj(dir_ / "m.obj", mesh);
+  const TriangleMesh read = readMesh(dir_ / "m.obj");
+  EXPECT_EQ(read.faces, mesh.faces);
+  ASSERT_EQ(read.vertices.size(), 4u);
+  EXPECT_DOUBLE_EQ(read.vertices[1].x(), 1e6);
+}
+
+TEST_F(MeshIoTest, TruncatedPlyNamesFileAndElement) {
+  writePly(dir_ / "m.ply", sample());
+  const auto size = fs::file_size(dir_ / "m.ply");
+  fs::resize_file(dir_ / "m.ply", size - 5);
+  try {
+    readMesh(dir_ / "m.ply");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.file(), (dir_ / "m.ply").string());
+    EXPECT_NE(error.where().find("face"), std::string::npos) << error.what();
+  }
+}
+
+TEST_F(MeshIoTest, OutOfRangeIndexIsAnError) {
+  std::ofstream(dir_ / "bad.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+  EXPECT_THROW(readMesh(dir_ / "bad.off"), InputError);
+}
+
+TEST_F(MeshIoTest, MissingFileIsAnError) {
+  EXPECT_THROW(readMesh(dir_ / "absent.ply"), InputError);
+}
+
+TEST_F(MeshIoTest, ReadsTheAuthorsReferenceOff) {
+  const fs::path reference = fs::path(TERRAMESH_SHARED_DIR) / "data/kitti00_orbslam/reference_meshes" /
+                             "KITTI_200frames_D=100_Step=40_ManifoldFinal.off";
+  const TriangleMesh mesh = readMesh(reference);
+  EXPECT_GT(mesh.faces.size(), 1000u);
+  const MeshTopology t = analyzeTopology(mesh);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+}
+
+}  // namespace
+}  // namespace terramesh::mesher
