@@ -43,6 +43,9 @@ struct CellInfo {
   std::int32_t weight = 0;
   /// Number of stored rays whose path crosses this cell.
   std::uint32_t crossings = 0;
+  /// ... of which spread votes to the neighbours: all but those ending in this cell (the apex of
+  /// the inverse cone, incident to the ray's point).
+  std::uint32_t spreading = 0;
   /// Unique stamp given at creation; validates handles kept across topology changes.
   std::uint32_t uid = 0;
   /// Slot of this cell's ray list in RayStore, kNone if no ray crosses it.

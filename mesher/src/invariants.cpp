@@ -32,6 +32,7 @@ InvariantReport Mesher::Impl::checkInvariants() const {
 
   // Crossing counts and paths recomputed from scratch over every stored ray.
   std::unordered_map<const internal::Delaunay::Cell*, std::uint32_t> crossings;
+  std::unordered_map<const internal::Delaunay::Cell*, std::uint32_t> spreading;
   std::unordered_map<const internal::Delaunay::Cell*, std::vector<internal::RayId>> lists;
   internal::RayWalker walker(tri, false);
   internal::WalkCounters counters;
@@ -57,8 +58,10 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     camera.cell = tri.locate(camera.position, camera.type, camera.li, camera.lj);
     walker.walk(camera, point.vertex, path, counters);
     if (path != ray.path) fail(name + ": stored path differs from a fresh walk");
-    for (const CellHandle& cell : ray.path) {
+    for (std::size_t i = 0; i < ray.path.size(); ++i) {
+      const CellHandle& cell = ray.path[i];
       ++crossings[&*cell];
+      if (i + 1 < ray.path.size()) ++spreading[&*cell];
       lists[&*cell].push_back(id);
     }
   }
@@ -72,6 +75,13 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     if (info.crossings != expected) {
       fail("cell " + std::to_string(info.uid) + ": crossings " + std::to_string(info.crossings) +
            " but " + std::to_string(expected) + " stored rays cross it");
+    }
+    const auto spread = spreading.find(&*cell);
+    const std::uint32_t expected_spread = spread == spreading.end() ? 0 : spread->second;
+    if (info.spreading != expected_spread) {
+      fail("cell " + std::to_string(info.uid) + ": spreading crossings " +
+           std::to_string(info.spreading) + " but recomputation gives " +
+           std::to_string(expected_spread));
     }
     std::vector<internal::RayId> stored = state_.rays.crossing(cell);
     std::vector<internal::RayId> fresh;

@@ -75,41 +75,57 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
 
 void Grower::drainQueue(UpdateStats& stats) {
   OutsideSet& outside = state_.outside;
-  while (!queue_.empty()) {
-    const CellHandle cell = queue_.top().cell;
-    queue_.pop();
-    cell->info().flags &= static_cast<std::uint8_t>(~kCellQueued);
-    if (cell->info().outside()) continue;
-    if (!outside.canAdd(cell)) continue;
-    outside.add(cell);
-    ++stats.cells_grown;
+  // A refused cell may become addable once cells around its vertices (not only its faces) have
+  // joined O, so refused cells are queued again until a pass adds nothing.
+  std::vector<CellHandle> refused;
+  while (true) {
+    bool progress = false;
+    while (!queue_.empty()) {
+      const CellHandle cell = queue_.top().cell;
+      queue_.pop();
+      cell->info().flags &= static_cast<std::uint8_t>(~kCellQueued);
+      if (cell->info().outside()) continue;
+      if (!outside.canAdd(cell)) {
+        refused.push_back(cell);
+        continue;
+      }
+      outside.add(cell);
+      progress = true;
+      ++stats.cells_grown;
+      for (int i = 0; i < 4; ++i) touched_vertices_.push_back(cell->vertex(i));
+      pushFreeNeighbours(cell);
+    }
+    if (!progress || refused.empty()) break;
+    for (const CellHandle& cell : refused) push(cell);
+    refused.clear();
+  }
+  // Cells still refused are where fronts of O meet or pinch: their vertices are the candidates of
+  // the per-vertex pass.
+  for (const CellHandle& cell : refused) {
     for (int i = 0; i < 4; ++i) touched_vertices_.push_back(cell->vertex(i));
-    pushFreeNeighbours(cell);
   }
 }
 
 void Grower::genusPass(UpdateStats& stats) {
-  // Vertices whose every incident cell is free but which are still on dO: adding their whole star
-  // at once may close a handle that no single-cell step can (each would pinch the surface).
+  // For a vertex of dO, add every free cell of its star that is not in O yet, all at once: where
+  // two fronts of O meet, no single cell can join them without pinching the surface, but a whole
+  // star can, which lets the surface change genus (as in Litvinov & Lhuillier 2013).
   const std::uint32_t mark = state_.nextVertexMark();
   std::vector<CellHandle> star;
   std::vector<CellHandle> to_add;
   for (std::size_t i = 0; i < touched_vertices_.size(); ++i) {
     const VertexHandle v = touched_vertices_[i];
-    if (v->info().mark == mark) continue;
+    if (v->info().mark == mark || v->info().outside_cells == 0) continue;
     v->info().mark = mark;
     star.clear();
     state_.tri.incident_cells(v, std::back_inserter(star));
     to_add.clear();
-    bool all_free = true;
     for (const CellHandle& cell : star) {
-      if (state_.tri.is_infinite(cell) || !state_.weights.isFree(cell)) {
-        all_free = false;
-        break;
+      if (!cell->info().outside() && !state_.tri.is_infinite(cell) && state_.weights.isFree(cell)) {
+        to_add.push_back(cell);
       }
-      if (!cell->info().outside()) to_add.push_back(cell);
     }
-    if (!all_free || to_add.empty() || to_add.size() == star.size()) continue;
+    if (to_add.size() < 2) continue;  // a single cell was already tried by the queue
     if (!state_.outside.canAddAll(to_add)) continue;
     for (const CellHandle& cell : to_add) {
       state_.outside.add(cell);

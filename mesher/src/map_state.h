@@ -22,7 +22,7 @@ struct MapState {
         hash(cfg.boundary_hash),
         outside(tri, grid, hash),
         weights(cfg.weight_crossed, cfg.weight_neighbour, cfg.weight_second_neighbour,
-                cfg.free_threshold) {}
+                cfg.free_threshold, cfg.spread_cap) {}
 
   MapState(const MapState&) = delete;
   MapState& operator=(const MapState&) = delete;

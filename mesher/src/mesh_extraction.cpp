@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <unordered_map>
 
 #include "mesher_impl.h"
@@ -36,6 +37,30 @@ TriangleMesh Mesher::Impl::extractMesh() const {
     }
   }
   return mesh;
+}
+
+std::vector<CellVisibility> Mesher::Impl::cellVisibility() const {
+  std::vector<CellVisibility> cells;
+  cells.reserve(state_.tri.number_of_finite_cells());
+  auto less = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  };
+  for (auto cell = state_.tri.finite_cells_begin(); cell != state_.tri.finite_cells_end(); ++cell) {
+    CellVisibility visibility;
+    for (int i = 0; i < 4; ++i) {
+      visibility.vertices_W[static_cast<std::size_t>(i)] = internal::toEigen(cell->vertex(i)->point());
+    }
+    std::sort(visibility.vertices_W.begin(), visibility.vertices_W.end(), less);
+    visibility.weight = static_cast<double>(cell->info().weight) / internal::WeightField::kFixedPointScale;
+    visibility.crossings = cell->info().crossings;
+    visibility.outside = cell->info().outside();
+    cells.push_back(visibility);
+  }
+  std::sort(cells.begin(), cells.end(), [&less](const CellVisibility& a, const CellVisibility& b) {
+    return std::lexicographical_compare(a.vertices_W.begin(), a.vertices_W.end(), b.vertices_W.begin(),
+                                        b.vertices_W.end(), less);
+  });
+  return cells;
 }
 
 MapSize Mesher::Impl::size() const {

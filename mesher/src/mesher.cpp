@@ -26,6 +26,7 @@ UpdateStats Mesher::removeKeyframe(KeyframeId keyframe) { return impl_->removeKe
 TriangleMesh Mesher::extractMesh() const { return impl_->extractMesh(); }
 MapSize Mesher::size() const { return impl_->size(); }
 const MesherConfig& Mesher::config() const { return impl_->config(); }
+std::vector<CellVisibility> Mesher::cellVisibility() const { return impl_->cellVisibility(); }
 InvariantReport Mesher::checkInvariants() const { return impl_->checkInvariants(); }
 
 }  // namespace terramesh::mesher

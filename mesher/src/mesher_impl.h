@@ -28,6 +28,7 @@ class Mesher::Impl {
   TriangleMesh extractMesh() const;
   MapSize size() const;
   InvariantReport checkInvariants() const;
+  std::vector<CellVisibility> cellVisibility() const;
   const MesherConfig& config() const { return state_.config; }
 
  private:

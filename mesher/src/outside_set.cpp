@@ -40,9 +40,18 @@ bool OutsideSet::canRemove(CellHandle cell) {
 }
 
 bool OutsideSet::canAddAll(const std::vector<CellHandle>& cells) {
+  return pendingChangeKeepsManifold(cells, true);
+}
+
+bool OutsideSet::canRemoveAll(const std::vector<CellHandle>& cells) {
+  return pendingChangeKeepsManifold(cells, false);
+}
+
+bool OutsideSet::pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding) {
   for (const CellHandle& c : cells) c->info().flags |= kCellPending;
-  auto inside = [](const CellHandle& c) {
-    return (c->info().flags & (kCellOutside | kCellPending)) != 0;
+  auto inside = [adding](const CellHandle& c) {
+    const bool pending = (c->info().flags & kCellPending) != 0;
+    return adding ? (c->info().outside() || pending) : (c->info().outside() && !pending);
   };
   bool ok = true;
   for (const CellHandle& c : cells) {

@@ -25,6 +25,8 @@ class OutsideSet {
   bool canRemove(CellHandle cell);
   /// True if adding all `cells` (none in O, all finite) at once keeps the boundary manifold.
   bool canAddAll(const std::vector<CellHandle>& cells);
+  /// True if removing all `cells` (all in O) at once keeps the boundary manifold.
+  bool canRemoveAll(const std::vector<CellHandle>& cells);
 
   void add(CellHandle cell);
   void remove(CellHandle cell);
@@ -36,6 +38,8 @@ class OutsideSet {
   GridKey keyOf(VertexHandle v) const { return grid_.cellOf(toEigen(v->point())); }
 
  private:
+  /// Regularity of every vertex of `cells` when cells flagged kCellPending flip membership.
+  bool pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding);
   void vertexGainedCell(VertexHandle v);
   void vertexLostCell(VertexHandle v);
 

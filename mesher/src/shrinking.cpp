@@ -1,6 +1,5 @@
 #include "shrinking.h"
 
-#include <deque>
 
 namespace terramesh::mesher::internal {
 namespace {
@@ -76,43 +75,40 @@ void Shrinker::shrinkInSpheres(const std::vector<Eigen::Vector3d>& centres, doub
   peel(stats);
 }
 
-void Shrinker::peel(UpdateStats& stats) {
-  stats.enclosing_cells += enclosed_.size();
-  OutsideSet& outside = state_.outside;
-  std::deque<CellHandle> queue;
-  for (const CellHandle& cell : enclosed_) {
-    if (touchesBoundary(cell)) {
-      cell->info().flags |= kCellQueued;
-      queue.push_back(cell);
+void Shrinker::removeCell(const CellHandle& cell, std::vector<CellHandle>& queue,
+                          UpdateStats& stats) {
+  state_.outside.remove(cell);
+  ++stats.cells_shrunk;
+  if (hasSteinerVertex(cell)) ++stats.steiner_cells_shrunk;
+  // Its enclosed O-neighbours now touch the boundary.
+  for (int i = 0; i < 4; ++i) {
+    const CellHandle n = cell->neighbor(i);
+    const std::uint8_t flags = n->info().flags;
+    if ((flags & kCellOutside) && (flags & kCellEnclosed) && !(flags & kCellQueued)) {
+      n->info().flags |= kCellQueued;
+      queue.push_back(n);
     }
   }
-  // Peel from the boundary inwards; cells refused now may pass once cells around them are gone,
-  // so refused cells are retried until a pass removes nothing.
+}
+
+std::vector<CellHandle> Shrinker::peelQueue(std::vector<CellHandle>& queue, UpdateStats& stats) {
+  // Cells refused now may pass once cells around them are gone: refused cells are retried until a
+  // pass removes nothing.
   std::vector<CellHandle> refused;
   while (true) {
     bool progress = false;
-    while (!queue.empty()) {
-      const CellHandle cell = queue.front();
-      queue.pop_front();
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const CellHandle cell = queue[head];
       cell->info().flags &= static_cast<std::uint8_t>(~kCellQueued);
       if (!cell->info().outside()) continue;
-      if (!outside.canRemove(cell)) {
+      if (!state_.outside.canRemove(cell)) {
         refused.push_back(cell);
         continue;
       }
-      outside.remove(cell);
+      removeCell(cell, queue, stats);
       progress = true;
-      ++stats.cells_shrunk;
-      if (hasSteinerVertex(cell)) ++stats.steiner_cells_shrunk;
-      for (int i = 0; i < 4; ++i) {
-        const CellHandle n = cell->neighbor(i);
-        const std::uint8_t flags = n->info().flags;
-        if ((flags & kCellOutside) && (flags & kCellEnclosed) && !(flags & kCellQueued)) {
-          n->info().flags |= kCellQueued;
-          queue.push_back(n);
-        }
-      }
     }
+    queue.clear();
     if (!progress || refused.empty()) break;
     for (const CellHandle& cell : refused) {
       if (cell->info().outside() && !(cell->info().flags & kCellQueued)) {
@@ -122,6 +118,50 @@ void Shrinker::peel(UpdateStats& stats) {
     }
     refused.clear();
   }
+  return refused;
+}
+
+std::size_t Shrinker::removeStars(const std::vector<CellHandle>& refused,
+                                  std::vector<CellHandle>& queue, UpdateStats& stats) {
+  std::size_t removed = 0;
+  const std::uint32_t mark = state_.nextVertexMark();
+  std::vector<CellHandle> to_remove;
+  for (const CellHandle& cell : refused) {
+    if (!cell->info().outside()) continue;
+    for (int i = 0; i < 4; ++i) {
+      const VertexHandle v = cell->vertex(i);
+      if (v->info().mark == mark) continue;
+      v->info().mark = mark;
+      scratch_.clear();
+      state_.tri.incident_cells(v, std::back_inserter(scratch_));
+      to_remove.clear();
+      for (const CellHandle& c : scratch_) {
+        const std::uint8_t flags = c->info().flags;
+        if ((flags & kCellOutside) && (flags & kCellEnclosed)) to_remove.push_back(c);
+      }
+      if (to_remove.size() < 2 || !state_.outside.canRemoveAll(to_remove)) continue;
+      for (const CellHandle& c : to_remove) removeCell(c, queue, stats);
+      removed += to_remove.size();
+    }
+  }
+  return removed;
+}
+
+void Shrinker::peel(UpdateStats& stats) {
+  stats.enclosing_cells += enclosed_.size();
+  std::vector<CellHandle> queue;
+  for (const CellHandle& cell : enclosed_) {
+    if (touchesBoundary(cell)) {
+      cell->info().flags |= kCellQueued;
+      queue.push_back(cell);
+    }
+  }
+  // Peel single cells from the boundary inwards; where that is stuck, remove whole stars.
+  while (true) {
+    const std::vector<CellHandle> refused = peelQueue(queue, stats);
+    if (refused.empty() || removeStars(refused, queue, stats) == 0) break;
+  }
+  for (const CellHandle& cell : queue) cell->info().flags &= static_cast<std::uint8_t>(~kCellQueued);
   for (const CellHandle& cell : enclosed_) {
     cell->info().flags &= static_cast<std::uint8_t>(~(kCellEnclosed | kCellQueued));
   }

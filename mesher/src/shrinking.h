@@ -31,6 +31,13 @@ class Shrinker {
  private:
   /// Peels the O-cells in `enclosed` (flagged kCellEnclosed) from the boundary inwards.
   void peel(UpdateStats& stats);
+  /// Removes cells one at a time from `queue` while that keeps dO manifold; returns the refused.
+  std::vector<CellHandle> peelQueue(std::vector<CellHandle>& queue, UpdateStats& stats);
+  /// The inverse of growing's per-vertex pass: removes every enclosed O-cell around a vertex at
+  /// once (undoing handles no single removal can). Returns the cells removed.
+  std::size_t removeStars(const std::vector<CellHandle>& refused, std::vector<CellHandle>& queue,
+                          UpdateStats& stats);
+  void removeCell(const CellHandle& cell, std::vector<CellHandle>& queue, UpdateStats& stats);
   void addEnclosedCellsOf(VertexHandle v);
 
   MapState& state_;

@@ -8,14 +8,13 @@ namespace terramesh::mesher::internal {
 void VisibilityTracer::noteChange(const CellHandle& cell, std::uint32_t mark) {
   if (cell->info().mark == mark) return;
   cell->info().mark = mark;
-  changed_.emplace_back(cell, cell->info().crossings);
+  changed_.push_back({cell, cell->info().crossings, cell->info().spreading});
 }
 
 void VisibilityTracer::applyChanges() {
-  for (const auto& [cell, before] : changed_) {
-    const auto delta =
-        static_cast<std::int32_t>(cell->info().crossings) - static_cast<std::int32_t>(before);
-    state_.weights.propagateCrossingChange(cell, delta, state_.candidates);
+  for (const Change& change : changed_) {
+    state_.weights.propagateCrossingChange(change.cell, change.crossings_before,
+                                           change.spreading_before, state_.candidates);
   }
   changed_.clear();
 }
@@ -27,13 +26,15 @@ void VisibilityTracer::untrace(const std::vector<RayId>& batch) {
     Ray& ray = rays[id];
     if (!(ray.flags & kRayTraced) || (ray.flags & kRayMarked)) continue;
     ray.flags |= kRayMarked;
-    for (const CellHandle& cell : ray.path) {
+    for (std::size_t i = 0; i < ray.path.size(); ++i) {
+      const CellHandle& cell = ray.path[i];
       noteChange(cell, mark);
       assert(cell->info().crossings > 0);
       --cell->info().crossings;
+      if (i + 1 < ray.path.size()) --cell->info().spreading;
     }
   }
-  for (const auto& entry : changed_) rays.removeMarkedCrossings(entry.first);
+  for (const Change& change : changed_) rays.removeMarkedCrossings(change.cell);
   for (RayId id : batch) {
     Ray& ray = rays[id];
     if (!(ray.flags & kRayMarked)) continue;
@@ -72,9 +73,11 @@ void VisibilityTracer::trace(const std::vector<RayId>& batch, WalkCounters& coun
     }
     const VertexHandle target = state_.registry.point(ray.point).vertex;
     walker_.walk(camera, target, ray.path, counters);
-    for (const CellHandle& cell : ray.path) {
+    for (std::size_t i = 0; i < ray.path.size(); ++i) {
+      const CellHandle& cell = ray.path[i];
       noteChange(cell, mark);
       ++cell->info().crossings;
+      if (i + 1 < ray.path.size()) ++cell->info().spreading;  // the last cell is the cone's apex
       rays.addCrossing(cell, id);
     }
     ray.flags |= kRayTraced;

@@ -35,7 +35,12 @@ class VisibilityTracer {
 
   MapState& state_;
   RayWalker walker_;
-  std::vector<std::pair<CellHandle, std::uint32_t>> changed_;  // cell, crossings before
+  struct Change {
+    CellHandle cell;
+    std::uint32_t crossings_before;
+    std::uint32_t spreading_before;
+  };
+  std::vector<Change> changed_;
   std::vector<RayId> order_;
 };
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -29,25 +30,30 @@ class GrowCandidates {
 };
 
 /// The inverse-cone weight of every cell, kept equal to
-///   w(c) = W1 k(c) + W2 sum_{n in N(c)} k(n) + W3 sum_{n in N(c)} sum_{m in N(n), m != c} k(m)
-/// where k is the number of stored rays crossing a cell and N the face neighbours: each crossing
-/// adds W1 to the cell, W2 to each neighbour and W3 to each neighbour's other neighbours.
-/// Weights are fixed point (1/16) so that incremental updates equal a recomputation exactly.
+///   w(c) = W1 k(c) + W2 sum_{n in N(c)} S(n) + W3 sum_{n in N(c)} sum_{m in N(n), m != c} S(m)
+/// where k is the number of stored rays crossing a cell, s the number of those that spread (every
+/// crossing except in the ray's last cell, the one incident to its point: the apex of the inverse
+/// cone, as in Romanoni & Matteucci 2015), S(n) = min(s(n), cap) (S = s when cap is 0) and N the
+/// face neighbours. So each crossing adds W1 to its cell and, away from the point, W2 to each
+/// neighbour and W3 to each neighbour's other neighbours, up to `cap` crossings per neighbour.
+/// Weights are fixed point (1/16) so incremental updates equal a recomputation exactly.
 class WeightField {
  public:
   static constexpr int kFixedPointScale = 16;
 
-  WeightField(double crossed, double neighbour, double second_neighbour, double free_threshold);
+  WeightField(double crossed, double neighbour, double second_neighbour, double free_threshold,
+              int spread_cap);
 
   static std::int32_t toFixed(double weight);
 
   bool isFree(const CellHandle& cell) const { return cell->info().weight > threshold_; }
   std::int32_t threshold() const { return threshold_; }
 
-  /// Applies a change of `delta` crossings of `cell` to the weights of its 2-ring. Cells that
-  /// become free and are not in O are reported to `candidates`.
-  void propagateCrossingChange(const CellHandle& cell, std::int32_t delta,
-                               GrowCandidates& candidates) const;
+  /// Applies a change of the crossing counts of `cell` (from the given previous values to its
+  /// current ones) to the weights of its 2-ring. Cells that become free and are not in O are
+  /// reported to `candidates`.
+  void propagateCrossingChange(const CellHandle& cell, std::uint32_t crossings_before,
+                               std::uint32_t spreading_before, GrowCandidates& candidates) const;
 
   /// The weight of `cell` recomputed from the crossing counts around it.
   std::int32_t computeWeight(const CellHandle& cell) const;
@@ -63,6 +69,12 @@ class WeightField {
     if (!was_free && weight > threshold_ && !cell->info().outside()) candidates.add(cell);
   }
 
+  /// What a neighbour with `spreading` spreading crossings contributes (in crossings).
+  std::int64_t spread(std::uint32_t spreading) const {
+    return cap_ == 0 ? spreading : std::min<std::uint32_t>(spreading, cap_);
+  }
+
+  std::uint32_t cap_;
   std::int32_t crossed_;
   std::int32_t neighbour_;
   std::int32_t second_neighbour_;

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +31,18 @@ struct MapSize {
   std::size_t point_bytes = 0;          ///< point and keyframe records
   std::size_t index_bytes = 0;          ///< id maps and the boundary hash
   std::size_t totalBytes() const { return triangulation_bytes + ray_bytes + point_bytes + index_bytes; }
+};
+
+/// Visibility state of one finite cell of the triangulation (for inspection and comparison).
+struct CellVisibility {
+  /// The cell's vertices, sorted lexicographically, in map units.
+  std::array<Eigen::Vector3d, 4> vertices_W;
+  /// Inverse-cone weight (same units as the config's weights).
+  double weight = 0;
+  /// Number of stored rays crossing the cell.
+  std::uint32_t crossings = 0;
+  /// Whether the cell is in the outside set O.
+  bool outside = false;
 };
 
 /// Result of Mesher::checkInvariants: every violation found, described in one line each.
@@ -79,6 +93,10 @@ class Mesher {
 
   MapSize size() const;
   const MesherConfig& config() const;
+
+  /// Every finite cell with its weight, crossing count and membership of O, sorted by vertices.
+  /// O(cells log cells); meant for tests, debugging and visualisation.
+  std::vector<CellVisibility> cellVisibility() const;
 
   /// Full consistency check, for tests: triangulation validity, every boundary vertex regular,
   /// per-vertex counters, the boundary hash, ray paths equal to fresh walks, and cell weights

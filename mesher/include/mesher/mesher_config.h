@@ -49,6 +49,10 @@ struct MesherConfig {
   double weight_crossed = 10.0;
   double weight_neighbour = 2.0;
   double weight_second_neighbour = 1.0;
+  /// How many crossings of a neighbour count towards a cell's weight (0: all of them, as in the
+  /// authors' code). Spreading every crossing lets big cells at a surface, crossed by hundreds of
+  /// rays, carve the cells behind it; a cap bounds what a neighbour can contribute.
+  int spread_cap = 1;
   /// A cell is free space when its weight is strictly above this.
   double free_threshold = 20.0;
   /// A point whose new estimate moved by no more than this keeps its vertex.
