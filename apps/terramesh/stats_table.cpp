@@ -9,7 +9,7 @@ std::string updateCsvHeader() {
   return "event,kind,id,new_points,moved_points,removed_points,dropped_points,duplicate_points,"
          "deferred_points,steiner_points,rays_traced,rays_retraced,rays_untraced,rays_skipped,"
          "enclosing_cells,cells_shrunk,steiner_cells_shrunk,cells_grown,genus_pass_cells,"
-         "walk_steps,cache_lookups,cache_hits,walk_fallbacks,"
+         "walk_steps,cache_lookups,cache_hits,walk_fallbacks,walk_failures,"
          "time_steiner_s,time_shrink_s,time_insertion_s,time_ray_tracing_s,time_grow_s,time_total_s,"
          "map_points,map_cells,map_outside_cells,map_rays,map_bytes";
 }
@@ -23,7 +23,7 @@ std::string updateCsvRow(std::size_t event_index, const std::string& kind, std::
       << s.rays_retraced << ',' << s.rays_untraced << ',' << s.rays_skipped << ','
       << s.enclosing_cells << ',' << s.cells_shrunk << ',' << s.steiner_cells_shrunk << ','
       << s.cells_grown << ',' << s.genus_pass_cells << ',' << s.walk_steps << ','
-      << s.cache_lookups << ',' << s.cache_hits << ',' << s.walk_fallbacks;
+      << s.cache_lookups << ',' << s.cache_hits << ',' << s.walk_fallbacks << ',' << s.walk_failures;
   char buffer[256];
   std::snprintf(buffer, sizeof(buffer), ",%.6e,%.6e,%.6e,%.6e,%.6e,%.6e", s.time.steiner_s,
                 s.time.shrink_s, s.time.insertion_s, s.time.ray_tracing_s, s.time.grow_s,

@@ -65,7 +65,7 @@ std::vector<std::string> MesherConfig::problems() const {
     require(finite(value) && value >= 0 && value <= 1e4,
             std::string(name) + " must be in [0, 10000]");
   }
-  require(weight_crossed > 0, "weight_crossed must be positive");
+  require(!(weight_crossed <= 0), "weight_crossed must be positive");
   require(spread_cap >= 0, "spread_cap must be non-negative (0 means no cap)");
   require(finite(free_threshold) && free_threshold >= 0, "free_threshold must be non-negative");
   require(finite(move_threshold_m) && move_threshold_m >= 0, "move_threshold_m must be non-negative");

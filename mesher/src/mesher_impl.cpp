@@ -478,6 +478,7 @@ void Mesher::Impl::traceNow(std::vector<RayId>& ids, UpdateStats& stats, bool co
   stats.cache_lookups += counters.cache_lookups;
   stats.cache_hits += counters.cache_hits;
   stats.walk_fallbacks += counters.fallbacks;
+  stats.walk_failures += counters.failures;
 }
 
 void Mesher::Impl::traceScheduled(UpdatePlan& plan, UpdateStats& stats) {

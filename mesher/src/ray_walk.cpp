@@ -38,7 +38,24 @@ void RayWalker::walk(const CameraLocation& camera, VertexHandle target,
   path.clear();
   if (camera.type == Delaunay::CELL && walkStraight(camera, target, path, counters)) return;
   ++counters.fallbacks;
-  walkWithTraverser(camera, target, path);
+  // Generic directions (no two alike, none along an axis or a diagonal).
+  static constexpr double kDirections[4][3] = {
+      {0.5773503, 0.4082483, 0.7071068}, {-0.3015113, 0.9045340, 0.3015113},
+      {0.8017837, -0.2672612, 0.5345225}, {0.2182179, 0.4364358, -0.8728716}};
+  const Eigen::Vector3d q = toEigen(camera.position);
+  const double scale = 1e-7 * (1.0 + q.cwiseAbs().maxCoeff() + (toEigen(target->point()) - q).norm());
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    const double* u = kDirections[attempt % 4];
+    const double amount = scale * (1 + attempt / 4);
+    CameraLocation displaced;
+    displaced.position = toPoint(q + amount * Eigen::Vector3d(u[0], u[1], u[2]));
+    displaced.cell = tri_.locate(displaced.position, displaced.type, displaced.li, displaced.lj,
+                                 camera.cell);
+    path.clear();
+    if (displaced.type == Delaunay::CELL && walkStraight(displaced, target, path, counters)) return;
+  }
+  path.clear();
+  ++counters.failures;
 }
 
 bool RayWalker::walkStraight(const CameraLocation& camera, VertexHandle target,
@@ -129,22 +146,6 @@ bool RayWalker::walkStraight(const CameraLocation& camera, VertexHandle target,
       if (j != entry && j != tested && leaves_through(j)) exit = j;
     }
     if (exit < 0) return false;
-  }
-}
-
-void RayWalker::walkWithTraverser(const CameraLocation& camera, VertexHandle target,
-                                  std::vector<CellHandle>& path) const {
-  path.clear();
-  auto collect = [&](auto cells) {
-    for (CellHandle cell : cells) {
-      path.push_back(cell);
-      if (cell->has_vertex(target)) return;
-    }
-  };
-  if (camera.type == Delaunay::VERTEX) {
-    collect(tri_.segment_traverser_cell_handles(camera.cell->vertex(camera.li), target));
-  } else {
-    collect(tri_.segment_traverser_cell_handles(camera.position, target->point(), camera.cell));
   }
 }
 

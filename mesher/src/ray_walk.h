@@ -12,7 +12,8 @@ struct WalkCounters {
   std::size_t steps = 0;
   std::size_t cache_lookups = 0;
   std::size_t cache_hits = 0;
-  std::size_t fallbacks = 0;
+  std::size_t fallbacks = 0;  ///< rays walked from a displaced camera (degenerate geometry)
+  std::size_t failures = 0;   ///< rays for which no displacement helped (left without a path)
 };
 
 /// Where a camera lies in the triangulation (from Delaunay::locate).
@@ -29,8 +30,12 @@ struct CameraLocation {
 /// facet whose interior it crosses: with the next-tetrahedron cache, the facet the previous ray
 /// left the cell by is tested first (2 predicates when right). The set of cells is a function of
 /// the segment and the triangulation only; the cache changes the order of tests, never the result.
-/// When the segment passes exactly through an edge or vertex (no facet crossed strictly), the ray
-/// is walked by CGAL's segment traverser instead.
+///
+/// Degenerate geometry (the camera on a facet, edge or vertex, or the segment leaving a cell
+/// through an edge or vertex, so that no facet is crossed strictly) is resolved by walking again
+/// from the camera displaced by a tiny fixed offset in a generic direction: still exact
+/// predicates, and still a function of the segment and the triangulation only. (CGAL 5.5's segment
+/// traverser is not used: in such cases it can stop in a cell that does not contain the target.)
 class RayWalker {
  public:
   RayWalker(const Delaunay& tri, bool use_cache) : tri_(tri), use_cache_(use_cache) {}
@@ -43,8 +48,6 @@ class RayWalker {
  private:
   bool walkStraight(const CameraLocation& camera, VertexHandle target,
                     std::vector<CellHandle>& path, WalkCounters& counters) const;
-  void walkWithTraverser(const CameraLocation& camera, VertexHandle target,
-                         std::vector<CellHandle>& path) const;
 
   const Delaunay& tri_;
   bool use_cache_;

@@ -33,6 +33,7 @@ UpdateStats& UpdateStats::operator+=(const UpdateStats& other) {
   cache_lookups += other.cache_lookups;
   cache_hits += other.cache_hits;
   walk_fallbacks += other.walk_fallbacks;
+  walk_failures += other.walk_failures;
   time += other.time;
   return *this;
 }

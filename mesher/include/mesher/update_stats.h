@@ -40,7 +40,8 @@ struct UpdateStats {
   std::size_t walk_steps = 0;        ///< cells entered by ray walks
   std::size_t cache_lookups = 0;     ///< steps where a next-cell cache entry was available
   std::size_t cache_hits = 0;        ///< ... and named the right next cell
-  std::size_t walk_fallbacks = 0;    ///< degenerate rays walked by CGAL's segment traverser
+  std::size_t walk_fallbacks = 0;    ///< degenerate rays walked from a displaced camera
+  std::size_t walk_failures = 0;     ///< rays no displacement could walk (left without votes)
 
   StepTimes time;
 
