@@ -4,6 +4,7 @@
 
 #include "boundary_hash.h"
 #include "cgal_types.h"
+#include "mark_epochs.h"
 #include "mesher/mesher_config.h"
 #include "outside_set.h"
 #include "point_registry.h"
@@ -18,9 +19,10 @@ namespace terramesh::mesher::internal {
 struct MapState {
   explicit MapState(const MesherConfig& cfg)
       : config(cfg),
+        epochs(tri),
         grid(cfg.steinerStepUnits()),
         hash(cfg.boundary_hash),
-        outside(tri, grid, hash),
+        outside(tri, grid, hash, epochs),
         weights(cfg.weight_crossed, cfg.weight_neighbour, cfg.weight_second_neighbour,
                 cfg.free_threshold, cfg.spread_cap) {}
 
@@ -35,28 +37,16 @@ struct MapState {
   StampedCell stamp(const CellHandle& cell) const { return {cell, cell->info().uid}; }
 
   /// A fresh value for CellInfo::mark, distinct from every mark currently stored.
-  std::uint32_t nextMark() {
-    if (++mark_epoch == 0) {
-      for (auto cell = tri.all_cells_begin(); cell != tri.all_cells_end(); ++cell) cell->info().mark = 0;
-      mark_epoch = 1;
-    }
-    return mark_epoch;
-  }
-
+  std::uint32_t nextMark() { return epochs.nextCellMark(); }
   /// A fresh value for VertexInfo::mark, distinct from every mark currently stored.
-  std::uint32_t nextVertexMark() {
-    if (++vertex_mark_epoch == 0) {
-      for (auto v = tri.all_vertices_begin(); v != tri.all_vertices_end(); ++v) v->info().mark = 0;
-      vertex_mark_epoch = 1;
-    }
-    return vertex_mark_epoch;
-  }
+  std::uint32_t nextVertexMark() { return epochs.nextVertexMark(); }
 
   /// Gives a new unique stamp to a freshly created cell.
   void stampNewCell(const CellHandle& cell) { cell->info().uid = next_uid++; }
 
   MesherConfig config;
   Delaunay tri;
+  MarkEpochs epochs;
   SteinerGrid grid;
   BoundaryHash hash;
   OutsideSet outside;
@@ -66,8 +56,6 @@ struct MapState {
   GrowCandidates candidates;
   std::size_t steiner_vertices = 0;
   std::uint32_t next_uid = 1;
-  std::uint32_t mark_epoch = 0;
-  std::uint32_t vertex_mark_epoch = 0;
 };
 
 }  // namespace terramesh::mesher::internal

@@ -22,8 +22,9 @@ bool OutsideSet::canAdd(CellHandle cell) {
   auto inside = [&cell](const CellHandle& c) { return c == cell || c->info().outside(); };
   for (int i = 0; i < 4; ++i) {
     const VertexHandle v = cell->vertex(i);
-    if (v->info().outside_cells == 0) continue;  // only `cell` around v afterwards: a disk
-    if (!test_.isRegular(tri_, v, inside)) return false;
+    const std::size_t members = v->info().outside_cells;
+    if (members == 0) continue;  // only `cell` around v afterwards: a disk
+    if (!test_.isRegular(v, cell, members + 1, inside)) return false;
   }
   return true;
 }
@@ -33,8 +34,14 @@ bool OutsideSet::canRemove(CellHandle cell) {
   auto inside = [&cell](const CellHandle& c) { return c != cell && c->info().outside(); };
   for (int i = 0; i < 4; ++i) {
     const VertexHandle v = cell->vertex(i);
-    if (v->info().outside_cells == 1) continue;  // v leaves dO altogether
-    if (!test_.isRegular(tri_, v, inside)) return false;
+    const std::size_t members = v->info().outside_cells;
+    if (members == 1) continue;  // v leaves dO altogether
+    // The O-cells around v form a disk, so one of them shares a facet around v with `cell`.
+    CellHandle start;
+    for (int j = 0; j < 4 && start == CellHandle(); ++j) {
+      if (j != i && cell->neighbor(j)->info().outside()) start = cell->neighbor(j);
+    }
+    if (start == CellHandle() || !test_.isRegular(v, start, members - 1, inside)) return false;
   }
   return true;
 }
@@ -53,10 +60,33 @@ bool OutsideSet::pendingChangeKeepsManifold(const std::vector<CellHandle>& cells
     const bool pending = (c->info().flags & kCellPending) != 0;
     return adding ? (c->info().outside() || pending) : (c->info().outside() && !pending);
   };
+  const std::uint32_t vertex_mark = epochs_.nextVertexMark();
   bool ok = true;
-  for (const CellHandle& c : cells) {
-    for (int i = 0; i < 4 && ok; ++i) ok = test_.isRegular(tri_, c->vertex(i), inside);
-    if (!ok) break;
+  for (std::size_t a = 0; a < cells.size() && ok; ++a) {
+    for (int i = 0; i < 4 && ok; ++i) {
+      const VertexHandle v = cells[a]->vertex(i);
+      if (v->info().mark == vertex_mark) continue;
+      v->info().mark = vertex_mark;
+      // Members of the changed set around v, and a start cell for the search.
+      std::size_t changed = 0;
+      CellHandle start;
+      for (const CellHandle& c : cells) {
+        int iv = -1;
+        if (!c->has_vertex(v, iv)) continue;
+        ++changed;
+        if (adding) {
+          start = c;
+        } else {
+          for (int j = 0; j < 4 && start == CellHandle(); ++j) {
+            if (j != iv && inside(c->neighbor(j))) start = c->neighbor(j);
+          }
+        }
+      }
+      const std::size_t before = v->info().outside_cells;
+      const std::size_t members = adding ? before + changed : before - changed;
+      if (members == 0) continue;
+      ok = start != CellHandle() && test_.isRegular(v, start, members, inside);
+    }
   }
   for (const CellHandle& c : cells) c->info().flags &= static_cast<std::uint8_t>(~kCellPending);
   return ok;
@@ -77,7 +107,19 @@ void OutsideSet::remove(CellHandle cell) {
 }
 
 bool OutsideSet::isRegular(VertexHandle v) {
-  return test_.isRegular(tri_, v, [](const CellHandle& c) { return c->info().outside(); });
+  const std::size_t members = v->info().outside_cells;
+  if (members == 0) return true;
+  std::vector<CellHandle> star;
+  tri_.incident_cells(v, std::back_inserter(star));
+  std::size_t counted = 0;
+  CellHandle start;
+  for (const CellHandle& c : star) {
+    if (!c->info().outside()) continue;
+    ++counted;
+    start = c;
+  }
+  if (counted != members) return false;
+  return test_.isRegular(v, start, members, [](const CellHandle& c) { return c->info().outside(); });
 }
 
 void OutsideSet::vertexGainedCell(VertexHandle v) {

@@ -5,6 +5,7 @@
 #include "boundary_hash.h"
 #include "cgal_types.h"
 #include "manifold_test.h"
+#include "mark_epochs.h"
 #include "steiner_grid.h"
 
 namespace terramesh::mesher::internal {
@@ -14,8 +15,8 @@ namespace terramesh::mesher::internal {
 /// a change keeps the boundary a 2-manifold.
 class OutsideSet {
  public:
-  OutsideSet(const Delaunay& tri, const SteinerGrid& grid, BoundaryHash& hash)
-      : tri_(tri), grid_(grid), hash_(hash) {}
+  OutsideSet(const Delaunay& tri, const SteinerGrid& grid, BoundaryHash& hash, MarkEpochs& epochs)
+      : tri_(tri), grid_(grid), hash_(hash), epochs_(epochs), test_(epochs) {}
 
   std::size_t size() const { return size_; }
 
@@ -46,6 +47,7 @@ class OutsideSet {
   const Delaunay& tri_;
   const SteinerGrid& grid_;
   BoundaryHash& hash_;
+  MarkEpochs& epochs_;
   VertexRegularityTest test_;
   std::size_t size_ = 0;
 };

@@ -37,7 +37,7 @@ bool surfaceIsManifold(const Delaunay& tri) { return analyzeTopology(boundaryOf(
 
 class ManifoldTestOracle : public ::testing::Test {
  protected:
-  ManifoldTestOracle() : grid_(2.0), hash_(true), outside_(tri_, grid_, hash_) {
+  ManifoldTestOracle() : epochs_(tri_), grid_(2.0), hash_(true), outside_(tri_, grid_, hash_, epochs_) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> coordinate(-5.0, 5.0);
     grid_.coverPoint(Eigen::Vector3d::Zero(), 1);
@@ -56,6 +56,7 @@ class ManifoldTestOracle : public ::testing::Test {
   }
 
   Delaunay tri_;
+  MarkEpochs epochs_;
   SteinerGrid grid_;
   BoundaryHash hash_;
   OutsideSet outside_;
