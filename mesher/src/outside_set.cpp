@@ -4,44 +4,62 @@
 
 namespace terramesh::mesher::internal {
 
+// Single-cell changes use a local rule. In the link of a vertex v (a triangulated sphere, one
+// triangle t per incident cell) the O-cells form a disk R (or nothing, or everything). Adding a cell
+// adds t to R: R + t is a disk iff t shares two or three edges with R, or exactly one edge and its
+// opposite link vertex is not on R (else the surface pinches there). An edge of t shared with R is a
+// facet of the cell around v whose neighbour is in O; the opposite link vertex w is on R iff some
+// O-cell contains the edge (v, w). Removing a cell is the same rule for the complement of R.
+
+bool OutsideSet::anyAroundEdge(const CellHandle& cell, int i, int j, bool in_outside) const {
+  const auto start = tri_.incident_cells(cell, i, j);
+  auto around = start;
+  do {
+    const CellHandle c = around;
+    if (c != cell && c->info().outside() == in_outside) return true;
+  } while (++around != start);
+  return false;
+}
+
 bool OutsideSet::canAdd(CellHandle cell) {
   assert(!cell->info().outside() && !tri_.is_infinite(cell));
-  int glued = 0;
-  int glued_facet = -1;
   for (int i = 0; i < 4; ++i) {
-    if (cell->neighbor(i)->info().outside()) {
-      ++glued;
-      glued_facet = i;
+    if (cell->vertex(i)->info().outside_cells == 0) continue;  // R empty: t alone is a disk
+    int glued = 0;
+    int glued_facet = -1;
+    for (int j = 0; j < 4; ++j) {
+      if (j != i && cell->neighbor(j)->info().outside()) {
+        ++glued;
+        glued_facet = j;
+      }
     }
-  }
-  // A cell glued by a single face whose apex is not on dO replaces one boundary triangle by three
-  // around a new vertex: always manifold.
-  if (glued == 1 && cell->vertex(glued_facet)->info().outside_cells == 0) return true;
-  // A cell closing a cavity (all faces glued) removes a tetrahedral bubble: always manifold.
-  if (glued == 4) return true;
-  auto inside = [&cell](const CellHandle& c) { return c == cell || c->info().outside(); };
-  for (int i = 0; i < 4; ++i) {
-    const VertexHandle v = cell->vertex(i);
-    const std::size_t members = v->info().outside_cells;
-    if (members == 0) continue;  // only `cell` around v afterwards: a disk
-    if (!test_.isRegular(v, cell, members + 1, inside)) return false;
+    if (glued == 0) return false;  // t would touch R at vertices only
+    if (glued == 1 && anyAroundEdge(cell, i, glued_facet, true)) return false;  // pinch
   }
   return true;
 }
 
 bool OutsideSet::canRemove(CellHandle cell) {
   assert(cell->info().outside());
-  auto inside = [&cell](const CellHandle& c) { return c != cell && c->info().outside(); };
   for (int i = 0; i < 4; ++i) {
     const VertexHandle v = cell->vertex(i);
     const std::size_t members = v->info().outside_cells;
     if (members == 1) continue;  // v leaves dO altogether
-    // The O-cells around v form a disk, so one of them shares a facet around v with `cell`.
-    CellHandle start;
-    for (int j = 0; j < 4 && start == CellHandle(); ++j) {
-      if (j != i && cell->neighbor(j)->info().outside()) start = cell->neighbor(j);
+    int open = 0;
+    int open_facet = -1;
+    for (int j = 0; j < 4; ++j) {
+      if (j != i && !cell->neighbor(j)->info().outside()) {
+        ++open;
+        open_facet = j;
+      }
     }
-    if (start == CellHandle() || !test_.isRegular(v, start, members - 1, inside)) return false;
+    if (open == 1 && anyAroundEdge(cell, i, open_facet, false)) return false;  // pinch
+    if (open == 0) {
+      // Every facet of the cell around v is glued to O: fine only if v is interior to O (the
+      // removal opens a cavity there), not if it would punch a hole into the disk.
+      auto inside = [&cell](const CellHandle& c) { return c != cell && c->info().outside(); };
+      if (!test_.isRegular(v, cell->neighbor(i == 0 ? 1 : 0), members - 1, inside)) return false;
+    }
   }
   return true;
 }

@@ -39,6 +39,8 @@ class OutsideSet {
   GridKey keyOf(VertexHandle v) const { return grid_.cellOf(toEigen(v->point())); }
 
  private:
+  /// Whether a cell other than `cell` around its edge (vertex i, vertex j) is (or is not) in O.
+  bool anyAroundEdge(const CellHandle& cell, int i, int j, bool in_outside) const;
   /// Regularity of every vertex of `cells` when cells flagged kCellPending flip membership.
   bool pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding);
   void vertexGainedCell(VertexHandle v);
