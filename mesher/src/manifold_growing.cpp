@@ -45,7 +45,6 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
     if (best != CellHandle()) {
       state_.outside.add(best);
       ++stats.cells_grown;
-      for (int i = 0; i < 4; ++i) touched_vertices_.push_back(best->vertex(i));
       pushFreeNeighbours(best);
     }
   }
@@ -58,16 +57,10 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
     for (const GridKey& key : *region) {
       const std::vector<VertexHandle>* bucket = state_.hash.bucket(key);
       if (bucket == nullptr) continue;
-      for (const VertexHandle& v : *bucket) {
-        scanVertex(v);
-        touched_vertices_.push_back(v);
-      }
+      for (const VertexHandle& v : *bucket) scanVertex(v);
     }
   } else {
-    state_.hash.forEachVertex([this](const VertexHandle& v) {
-      scanVertex(v);
-      touched_vertices_.push_back(v);
-    });
+    state_.hash.forEachVertex([this](const VertexHandle& v) { scanVertex(v); });
   }
   drainQueue(stats);
   genusPass(stats);
@@ -92,17 +85,21 @@ void Grower::drainQueue(UpdateStats& stats) {
       outside.add(cell);
       progress = true;
       ++stats.cells_grown;
-      for (int i = 0; i < 4; ++i) touched_vertices_.push_back(cell->vertex(i));
       pushFreeNeighbours(cell);
     }
     if (!progress || refused.empty()) break;
     for (const CellHandle& cell : refused) push(cell);
     refused.clear();
   }
-  // Cells still refused are where fronts of O meet or pinch: their vertices are the candidates of
-  // the per-vertex pass.
+  // Cells still refused are where fronts of O meet or pinch: the vertices of their faces shared
+  // with O are the candidates of the per-vertex pass.
   for (const CellHandle& cell : refused) {
-    for (int i = 0; i < 4; ++i) touched_vertices_.push_back(cell->vertex(i));
+    for (int j = 0; j < 4; ++j) {
+      if (!cell->neighbor(j)->info().outside()) continue;
+      for (int i = 0; i < 4; ++i) {
+        if (i != j) touched_vertices_.push_back(cell->vertex(i));
+      }
+    }
   }
 }
 
@@ -132,10 +129,7 @@ void Grower::genusPass(UpdateStats& stats) {
       ++stats.cells_grown;
       ++stats.genus_pass_cells;
     }
-    for (const CellHandle& cell : to_add) {
-      for (int k = 0; k < 4; ++k) touched_vertices_.push_back(cell->vertex(k));
-      pushFreeNeighbours(cell);
-    }
+    for (const CellHandle& cell : to_add) pushFreeNeighbours(cell);
     drainQueue(stats);
   }
 }
