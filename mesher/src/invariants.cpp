@@ -66,6 +66,9 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     }
   }
   if (alive_rays != state_.rays.size()) fail("ray count does not match the live rays");
+  std::size_t path_entries = 0;
+  for (internal::RayId id = 0; id < state_.rays.slotCount(); ++id) path_entries += state_.rays[id].path.size();
+  if (path_entries != state_.rays.totalCrossings()) fail("the crossing total does not match the paths");
 
   std::size_t outside = 0;
   for (auto cell = tri.all_cells_begin(); cell != tri.all_cells_end(); ++cell) {

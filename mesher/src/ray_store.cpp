@@ -25,6 +25,7 @@ RayId RayStore::create(std::uint32_t point, std::uint32_t keyframe) {
 void RayStore::destroy(RayId id) {
   Ray& ray = rays_[id];
   assert(!(ray.flags & kRayTraced));
+  path_entries_ -= ray.path.size();
   ray.point = kNone;
   ray.keyframe = kNone;
   ray.flags = 0;
@@ -44,15 +45,22 @@ void RayStore::addCrossing(CellHandle cell, RayId ray) {
     }
   }
   lists_[slot].push_back(ray);
+  ++list_entries_;
+}
+
+void RayStore::clearPath(RayId id) {
+  path_entries_ -= rays_[id].path.size();
+  rays_[id].path.clear();
 }
 
 void RayStore::removeMarkedCrossings(CellHandle cell) {
   std::uint32_t& slot = cell->info().ray_list;
   if (slot == kNone) return;
   std::vector<RayId>& list = lists_[slot];
-  list.erase(std::remove_if(list.begin(), list.end(),
-                            [this](RayId id) { return (rays_[id].flags & kRayMarked) != 0; }),
-             list.end());
+  const auto end = std::remove_if(list.begin(), list.end(),
+                                  [this](RayId id) { return (rays_[id].flags & kRayMarked) != 0; });
+  list_entries_ -= static_cast<std::size_t>(list.end() - end);
+  list.erase(end, list.end());
   if (list.empty()) {
     std::vector<RayId>().swap(list);
     free_lists_.push_back(slot);
@@ -66,18 +74,14 @@ const std::vector<RayId>& RayStore::crossing(const CellHandle& cell) const {
 }
 
 std::size_t RayStore::memoryBytes() const {
-  std::size_t bytes = rays_.capacity() * sizeof(Ray) + free_rays_.capacity() * sizeof(RayId) +
-                      lists_.capacity() * sizeof(std::vector<RayId>) +
-                      free_lists_.capacity() * sizeof(std::uint32_t);
-  for (const Ray& ray : rays_) bytes += ray.path.capacity() * sizeof(CellHandle);
-  for (const auto& list : lists_) bytes += list.capacity() * sizeof(RayId);
-  return bytes;
-}
-
-std::size_t RayStore::totalCrossings() const {
-  std::size_t total = 0;
-  for (const Ray& ray : rays_) total += ray.path.size();
-  return total;
+  // Vectors hold their entries plus an allocator header; capacities are not tracked (that would
+  // need a walk over every ray), so entries are counted at their size.
+  constexpr std::size_t kAllocationOverhead = 16;
+  const std::size_t live_lists = lists_.size() - free_lists_.size();
+  return rays_.capacity() * sizeof(Ray) + free_rays_.capacity() * sizeof(RayId) +
+         lists_.capacity() * sizeof(std::vector<RayId>) + free_lists_.capacity() * sizeof(std::uint32_t) +
+         path_entries_ * sizeof(CellHandle) + size() * kAllocationOverhead +
+         list_entries_ * sizeof(RayId) + live_lists * kAllocationOverhead;
 }
 
 }  // namespace terramesh::mesher::internal

@@ -40,15 +40,21 @@ class RayStore {
   std::size_t slotCount() const { return rays_.size(); }
   std::size_t size() const { return rays_.size() - free_rays_.size(); }
 
-  /// Records that `ray` crosses `cell`.
+  /// Records that `ray` crosses `cell` (the ray's path holds the cell too: see setPath).
   void addCrossing(CellHandle cell, RayId ray);
+  /// Clears a ray's path, keeping the crossing totals in step.
+  void clearPath(RayId id);
+  /// Accounts for a path just filled by a walk (its size joins the crossing totals).
+  void notePathFilled(RayId id) { path_entries_ += rays_[id].path.size(); }
   /// Removes every ray flagged kRayMarked from the list of `cell`; frees the list when empty.
   void removeMarkedCrossings(CellHandle cell);
   /// Rays crossing `cell` (empty when none).
   const std::vector<RayId>& crossing(const CellHandle& cell) const;
 
+  /// Estimated bytes held: ray records, path entries, per-cell list entries and slots. O(1).
   std::size_t memoryBytes() const;
-  std::size_t totalCrossings() const;
+  /// Cells on stored paths, summed over rays. O(1).
+  std::size_t totalCrossings() const { return path_entries_; }
 
  private:
   std::vector<Ray> rays_;
@@ -56,6 +62,8 @@ class RayStore {
   std::vector<std::vector<RayId>> lists_;
   std::vector<std::uint32_t> free_lists_;
   std::vector<RayId> empty_;
+  std::size_t path_entries_ = 0;
+  std::size_t list_entries_ = 0;
 };
 
 }  // namespace terramesh::mesher::internal

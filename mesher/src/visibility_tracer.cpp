@@ -39,7 +39,7 @@ void VisibilityTracer::untrace(const std::vector<RayId>& batch) {
     Ray& ray = rays[id];
     if (!(ray.flags & kRayMarked)) continue;
     ray.flags &= static_cast<std::uint8_t>(~(kRayMarked | kRayTraced));
-    ray.path.clear();
+    rays.clearPath(id);
   }
   applyChanges();
 }
@@ -73,6 +73,7 @@ void VisibilityTracer::trace(const std::vector<RayId>& batch, WalkCounters& coun
     }
     const VertexHandle target = state_.registry.point(ray.point).vertex;
     walker_.walk(camera, target, ray.path, counters);
+    rays.notePathFilled(id);
     for (std::size_t i = 0; i < ray.path.size(); ++i) {
       const CellHandle& cell = ray.path[i];
       noteChange(cell, mark);
