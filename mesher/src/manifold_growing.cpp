@@ -1,5 +1,7 @@
 #include "manifold_growing.h"
 
+#include <unordered_set>
+
 namespace terramesh::mesher::internal {
 
 bool Grower::adjacentToOutside(const CellHandle& cell) const {
@@ -68,11 +70,12 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
 
 void Grower::drainQueue(UpdateStats& stats) {
   OutsideSet& outside = state_.outside;
-  // A refused cell may become addable once cells around its vertices (not only its faces) have
-  // joined O, so refused cells are queued again until a pass adds nothing.
+  // A refused cell's test can only change once O changes around one of its vertices: each pass
+  // marks the vertices of the cells it adds, and refused cells touching a marked vertex are tried
+  // again (others cannot succeed yet).
   std::vector<CellHandle> refused;
   while (true) {
-    bool progress = false;
+    const std::uint32_t changed = state_.nextVertexMark();
     while (!queue_.empty()) {
       const CellHandle cell = queue_.top().cell;
       queue_.pop();
@@ -83,13 +86,25 @@ void Grower::drainQueue(UpdateStats& stats) {
         continue;
       }
       outside.add(cell);
-      progress = true;
       ++stats.cells_grown;
+      for (int i = 0; i < 4; ++i) cell->vertex(i)->info().mark = changed;
       pushFreeNeighbours(cell);
     }
-    if (!progress || refused.empty()) break;
-    for (const CellHandle& cell : refused) push(cell);
-    refused.clear();
+    std::size_t retried = 0;
+    std::vector<CellHandle> still_refused;
+    for (const CellHandle& cell : refused) {
+      if (cell->info().outside()) continue;
+      bool touched = false;
+      for (int i = 0; i < 4 && !touched; ++i) touched = cell->vertex(i)->info().mark == changed;
+      if (touched) {
+        push(cell);
+        ++retried;
+      } else {
+        still_refused.push_back(cell);
+      }
+    }
+    refused.swap(still_refused);
+    if (retried == 0) break;
   }
   // Cells still refused are where fronts of O meet or pinch: the vertices of their faces shared
   // with O are the candidates of the per-vertex pass.
@@ -107,13 +122,13 @@ void Grower::genusPass(UpdateStats& stats) {
   // For a vertex of dO, add every free cell of its star that is not in O yet, all at once: where
   // two fronts of O meet, no single cell can join them without pinching the surface, but a whole
   // star can, which lets the surface change genus (as in Litvinov & Lhuillier 2013).
-  const std::uint32_t mark = state_.nextVertexMark();
+  // drainQueue below uses the vertex marks, so visited vertices are remembered here.
+  std::unordered_set<const internal::Delaunay::Vertex*> visited;
   std::vector<CellHandle> star;
   std::vector<CellHandle> to_add;
   for (std::size_t i = 0; i < touched_vertices_.size(); ++i) {
     const VertexHandle v = touched_vertices_[i];
-    if (v->info().mark == mark || v->info().outside_cells == 0) continue;
-    v->info().mark = mark;
+    if (v->info().outside_cells == 0 || !visited.insert(&*v).second) continue;
     star.clear();
     state_.tri.incident_cells(v, std::back_inserter(star));
     to_add.clear();

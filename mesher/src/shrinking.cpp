@@ -92,11 +92,11 @@ void Shrinker::removeCell(const CellHandle& cell, std::vector<CellHandle>& queue
 }
 
 std::vector<CellHandle> Shrinker::peelQueue(std::vector<CellHandle>& queue, UpdateStats& stats) {
-  // Cells refused now may pass once cells around them are gone: refused cells are retried until a
-  // pass removes nothing.
+  // A refused cell's test can only change once O changes around one of its vertices: each pass
+  // marks the vertices of the cells it removes, and refused cells touching one are tried again.
   std::vector<CellHandle> refused;
   while (true) {
-    bool progress = false;
+    const std::uint32_t changed = state_.nextVertexMark();
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const CellHandle cell = queue[head];
       cell->info().flags &= static_cast<std::uint8_t>(~kCellQueued);
@@ -105,18 +105,24 @@ std::vector<CellHandle> Shrinker::peelQueue(std::vector<CellHandle>& queue, Upda
         refused.push_back(cell);
         continue;
       }
+      for (int i = 0; i < 4; ++i) cell->vertex(i)->info().mark = changed;
       removeCell(cell, queue, stats);
-      progress = true;
     }
     queue.clear();
-    if (!progress || refused.empty()) break;
+    std::vector<CellHandle> still_refused;
     for (const CellHandle& cell : refused) {
-      if (cell->info().outside() && !(cell->info().flags & kCellQueued)) {
+      if (!cell->info().outside()) continue;
+      bool touched = false;
+      for (int i = 0; i < 4 && !touched; ++i) touched = cell->vertex(i)->info().mark == changed;
+      if (touched && !(cell->info().flags & kCellQueued)) {
         cell->info().flags |= kCellQueued;
         queue.push_back(cell);
+      } else if (!touched) {
+        still_refused.push_back(cell);
       }
     }
-    refused.clear();
+    refused.swap(still_refused);
+    if (queue.empty()) break;
   }
   return refused;
 }
