@@ -70,7 +70,7 @@ MapSize Mesher::Impl::size() const {
   size.steiner_vertices = state_.steiner_vertices;
   const std::size_t vertices = state_.tri.number_of_vertices();
   size.inserted_points = vertices - state_.steiner_vertices;
-  size.cells = state_.tri.number_of_finite_cells();
+  size.cells = state_.tri.tds().number_of_cells();  // O(1); counting finite cells is O(cells)
   size.outside_cells = state_.outside.size();
   size.rays = state_.rays.size();
   size.ray_crossings = state_.rays.totalCrossings();

@@ -21,7 +21,7 @@ struct MapSize {
   std::size_t points = 0;           ///< points known (inserted or waiting)
   std::size_t inserted_points = 0;  ///< points with a vertex in the triangulation
   std::size_t steiner_vertices = 0;
-  std::size_t cells = 0;            ///< finite cells
+  std::size_t cells = 0;            ///< cells, including the infinite ones on the hull
   std::size_t outside_cells = 0;    ///< cells in O
   std::size_t rays = 0;             ///< stored visibility rays
   std::size_t ray_crossings = 0;    ///< cells on stored ray paths, summed over rays
