@@ -420,7 +420,10 @@ void Mesher::Impl::changeTopology(UpdatePlan& plan, UpdateStats& stats, StepCloc
       ++stats.removed_points;
       plan.forget.push_back(index);
     }
-    if (!scheduled) traceNow(retrace_, stats, true);
+    if (!scheduled) {
+      StepClock::Scope scope(clock, Step::kRayTracing);
+      traceNow(retrace_, stats);
+    }
   };
   for (std::uint32_t index : plan.remove) removeVertexOf(index, false);
   for (std::uint32_t index : plan.move) removeVertexOf(index, true);
@@ -443,16 +446,16 @@ void Mesher::Impl::changeTopology(UpdatePlan& plan, UpdateStats& stats, StepCloc
     const std::size_t first_new = plan.trace.size();
     createRays(index, plan, stats);
     if (!scheduled) {
-      traceNow(retrace_, stats, true);
+      StepClock::Scope scope(clock, Step::kRayTracing);
+      traceNow(retrace_, stats);
       std::vector<RayId> own(plan.trace.begin() + static_cast<std::ptrdiff_t>(first_new), plan.trace.end());
       plan.trace.resize(first_new);
-      traceNow(own, stats, false);
+      traceNow(own, stats);
     }
   }
 }
 
-void Mesher::Impl::traceNow(std::vector<RayId>& ids, UpdateStats& stats, bool count_as_retrace) {
-  (void)count_as_retrace;
+void Mesher::Impl::traceNow(std::vector<RayId>& ids, UpdateStats& stats) {
   std::vector<RayId> batch;
   batch.reserve(ids.size());
   for (RayId id : ids) {
@@ -490,7 +493,7 @@ void Mesher::Impl::traceScheduled(UpdatePlan& plan, UpdateStats& stats) {
   all.insert(all.end(), retrace_.begin(), retrace_.end());
   plan.trace.clear();
   retrace_.clear();
-  traceNow(all, stats, false);
+  traceNow(all, stats);
 }
 
 }  // namespace terramesh::mesher

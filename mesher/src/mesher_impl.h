@@ -60,7 +60,9 @@ class Mesher::Impl {
   std::optional<std::unordered_set<internal::GridKey, internal::GridKeyHash>> shrink(
       const UpdatePlan& plan, UpdateStats& stats);
   void changeTopology(UpdatePlan& plan, UpdateStats& stats, internal::StepClock& clock);
-  void traceNow(std::vector<internal::RayId>& rays, UpdateStats& stats, bool count_as_retrace);
+  /// Traces the rays of `rays` that need it (each once), counting new segments as traced and the
+  /// others as retraced; clears `rays`.
+  void traceNow(std::vector<internal::RayId>& rays, UpdateStats& stats);
   void traceScheduled(UpdatePlan& plan, UpdateStats& stats);
   void untraceAndDestroyRaysOf(std::uint32_t point, UpdateStats& stats);
 
