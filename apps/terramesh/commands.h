@@ -13,5 +13,6 @@ inline constexpr int kExitBadInput = 2;    ///< usage error or unreadable/invali
 /// Each subcommand: parses its own arguments, returns an exit code. Errors are reported by
 /// throwing (UsageError, InputError, std::exception); main prints them on one line.
 int runMesh(const std::vector<std::string>& args);
+int runGenerate(const std::vector<std::string>& args);
 
 }  // namespace terramesh::cli

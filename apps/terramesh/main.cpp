@@ -19,6 +19,7 @@ struct Command {
 
 const Command kCommands[] = {
     {"mesh", "incremental manifold mesh from a SLAM stream", terramesh::cli::runMesh},
+    {"generate", "synthetic SLAM stream with ground truth (street, offroad, garage)", terramesh::cli::runGenerate},
 };
 
 void printUsage(std::ostream& out) {

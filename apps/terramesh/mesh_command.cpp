@@ -8,9 +8,10 @@
 #include "cli_args.h"
 #include "commands.h"
 #include "common/atomic_file.h"
-#include "datasets/stream_format.h"
+#include "datasets/stream_reader.h"
 #include "mesher/mesh_io.h"
 #include "mesher/mesher.h"
+#include "input_options.h"
 #include "mesher_options.h"
 #include "progress_bar.h"
 #include "stats_table.h"
@@ -50,7 +51,10 @@ std::string describeTopology(const mesher::MeshTopology& t) {
 
 int runMesh(const std::vector<std::string>& args) {
   ArgParser parser("mesh");
-  parser.positional("INPUT", "SLAM stream: the authors' JSON (.json) or terramesh's (.tmstream)")
+  parser
+      .positional("INPUT",
+                  "SLAM stream: the authors' JSON (.json), terramesh's (.tmstream), "
+                  "OpenMVG sfm_data.json, Bundler .out, or a COLMAP or KITTI directory")
       .option("--output", "DIR", "output directory (created if missing)")
       .alias("-o", "--output")
       .option("--mode", "MODE", "proposed, litvinov13 or romanoni15", "proposed")
@@ -60,6 +64,7 @@ int runMesh(const std::vector<std::string>& args) {
             "also write mesh_open.ply: the surface without faces touching Steiner vertices")
       .flag("--check-invariants", "check every invariant after each update (slow; for testing)")
       .flag("--quiet", "print nothing but errors");
+  declareInputOptions(parser);
   declareMesherOptions(parser);
   parser.parse(args);
   if (parser.helpRequested()) {
@@ -74,10 +79,11 @@ int runMesh(const std::vector<std::string>& args) {
   const auto mode = mesher::parseMesherMode(parser.get("--mode"));
   if (!mode) throw UsageError("mesh: --mode must be proposed, litvinov13 or romanoni15");
   const bool quiet = parser.flagSet("--quiet");
+  const datasets::StreamReadOptions read_options = streamReadOptionsFromArgs(parser);
 
   // Read and validate everything before creating any output.
   const std::filesystem::path input = parser.positionalValue("INPUT");
-  const datasets::SlamStream stream = datasets::readAnyStream(input);
+  const datasets::SlamStream stream = datasets::readAnyStream(input, read_options);
   const mesher::MesherConfig config = mesherConfigFromArgs(parser, *mode, stream);
   const std::filesystem::path output = parser.get("--output");
   std::filesystem::create_directories(output);

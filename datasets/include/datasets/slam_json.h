@@ -11,7 +11,8 @@ namespace terramesh::datasets {
 /// "0.1" (views[].key, observations[].key) and "0.2"/"0.3" (views[].viewId,
 /// observations[].pointId). Each view becomes one keyframe event, in file order; a view whose key
 /// repeats an earlier one replaces it. `extrinsic.rotation` is read as camera-to-world.
-/// @throw terramesh::InputError naming the file and the JSON field (or line, for syntax errors).
+/// @throw terramesh::InputError naming the file and the JSON field (or line and column, for syntax
+///        errors), also for a point listed twice in one view (the mesher would reject it).
 SlamStream readSlamJson(const std::filesystem::path& path);
 
 /// Writes keyframe events in the authors' JSON format ("0.1" or "0.3"), atomically. Removal

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <map>
 #include <string>
 #include <variant>
 #include <vector>
@@ -39,6 +40,9 @@ struct SlamStream {
   int recommended_min_views = 0;
   /// Free text: where the stream came from.
   std::string description;
+  /// The image (or scan) file of each keyframe, when the source names one (COLMAP, OpenMVG,
+  /// Bundler's list file, KITTI scans).
+  std::map<mesher::KeyframeId, std::string> keyframe_names;
 
   std::size_t keyframeEventCount() const;
 };

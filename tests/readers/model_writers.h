@@ -1,0 +1,23 @@
+#pragma once
+
+#include <filesystem>
+
+#include "datasets/colmap_reader.h"
+
+namespace terramesh::test {
+
+/// Writes cameras.txt, images.txt and points3D.txt as COLMAP does, with round-trip precision.
+void writeColmapText(const std::filesystem::path& directory, const datasets::ColmapModel& model);
+
+/// Writes cameras.bin, images.bin and points3D.bin as COLMAP does (little-endian).
+void writeColmapBinary(const std::filesystem::path& directory, const datasets::ColmapModel& model);
+
+/// Converts a COLMAP model to Bundler v0.3 (`bundle_path`) and its image list (`list_path`):
+/// camera i is the i-th image in increasing image id, point j the j-th 3D point in file order,
+/// with view lists from the points' tracks. R and t are flipped into Bundler's y-up, -z-forward
+/// camera; f is the camera's first parameter. Round-trip precision.
+void writeBundlerFromColmap(const std::filesystem::path& bundle_path,
+                            const std::filesystem::path& list_path,
+                            const datasets::ColmapModel& model);
+
+}  // namespace terramesh::test
