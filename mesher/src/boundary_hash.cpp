@@ -32,12 +32,11 @@ const std::vector<VertexHandle>* BoundaryHash::bucket(const GridKey& key) const 
 }
 
 std::size_t BoundaryHash::memoryBytes() const {
-  std::size_t bytes = buckets_.bucket_count() * sizeof(void*);
-  for (const auto& [key, vertices] : buckets_) {
-    bytes += sizeof(key) + sizeof(vertices) + 2 * sizeof(void*) +
-             vertices.capacity() * sizeof(VertexHandle);
-  }
-  return bytes;
+  // Table slots, one node per bucket (key, vector header, links) and one handle per vertex;
+  // vector capacities are not walked (O(1) estimate).
+  return buckets_.bucket_count() * sizeof(void*) +
+         buckets_.size() * (sizeof(GridKey) + sizeof(std::vector<VertexHandle>) + 2 * sizeof(void*)) +
+         size_ * sizeof(VertexHandle);
 }
 
 }  // namespace terramesh::mesher::internal

@@ -144,6 +144,12 @@ InvariantReport Mesher::Impl::checkInvariants() const {
   }
   if (hashed != state_.hash.size()) fail("boundary hash holds vertices that are not on dO");
 
+  std::size_t links = 0;
+  for (std::uint32_t index = 0; index < state_.registry.keyframeSlots(); ++index) {
+    links += state_.registry.keyframe(index).points.size();
+  }
+  if (links != state_.registry.observationLinks()) fail("the observation link count is wrong");
+
   // Every inserted point has exactly the rays its keyframes in range call for.
   for (std::uint32_t index = 0; index < state_.registry.pointSlots(); ++index) {
     const internal::PointRecord& point = state_.registry.point(index);

@@ -78,7 +78,7 @@ MapSize Mesher::Impl::size() const {
   size.triangulation_bytes = (vertices + 1) * sizeof(internal::Delaunay::Vertex) +
                              all_cells * sizeof(internal::Delaunay::Cell);
   size.ray_bytes = state_.rays.memoryBytes();
-  size.point_bytes = state_.registry.pointBytes();
+  size.point_bytes = state_.registry.pointBytes(state_.rays.size());
   size.index_bytes = state_.registry.indexBytes() + state_.hash.memoryBytes();
   return size;
 }

@@ -186,8 +186,7 @@ UpdateStats Mesher::Impl::integrateKeyframe(const Keyframe& keyframe) {
   registry.keyframe(k).rotation_W_C = keyframe.rotation_W_C.normalized();
   plan.cameras.push_back(keyframe.position_W_C);
 
-  std::vector<std::uint32_t> previous;
-  previous.swap(registry.keyframe(k).points);
+  const std::vector<std::uint32_t> previous = registry.takeKeyframePoints(k);
   std::vector<std::uint32_t> touched;
   touched.reserve(keyframe.observations.size() + previous.size());
   for (const PointObservation& observation : keyframe.observations) {
@@ -197,7 +196,7 @@ UpdateStats Mesher::Impl::integrateKeyframe(const Keyframe& keyframe) {
     if (std::find(point.keyframes.begin(), point.keyframes.end(), k) == point.keyframes.end()) {
       point.keyframes.push_back(k);
     }
-    registry.keyframe(k).points.push_back(index);
+    registry.addKeyframePoint(k, index);
     touched.push_back(index);
   }
   if (!previous.empty()) {
@@ -222,9 +221,7 @@ UpdateStats Mesher::Impl::removePoints(const std::vector<PointId>& ids) {
     if (index == kNone) continue;
     internal::PointRecord& point = registry.point(index);
     if (point.keyframes.empty() && !point.inserted()) continue;  // already scheduled
-    for (std::uint32_t keyframe : point.keyframes) {
-      eraseValue(registry.keyframe(keyframe).points, index);
-    }
+    for (std::uint32_t keyframe : point.keyframes) registry.removeKeyframePoint(keyframe, index);
     point.keyframes.clear();
     classifyPoint(index, plan, stats);
   }
@@ -237,8 +234,7 @@ UpdateStats Mesher::Impl::removeKeyframe(KeyframeId id) {
   if (k == kNone) return {};
   UpdatePlan plan;
   UpdateStats stats;
-  std::vector<std::uint32_t> touched;
-  touched.swap(registry.keyframe(k).points);
+  const std::vector<std::uint32_t> touched = registry.takeKeyframePoints(k);
   for (std::uint32_t index : touched) eraseValue(registry.point(index).keyframes, k);
   for (std::uint32_t index : touched) classifyPoint(index, plan, stats);
   stats = run(plan, stats);

@@ -1,5 +1,6 @@
 #include "point_registry.h"
 
+#include <algorithm>
 #include <cassert>
 
 namespace terramesh::mesher::internal {
@@ -67,14 +68,31 @@ void PointRegistry::eraseKeyframe(std::uint32_t index) {
   free_keyframes_.push_back(index);
 }
 
-std::size_t PointRegistry::pointBytes() const {
-  std::size_t bytes = points_.capacity() * sizeof(PointRecord) +
-                      keyframes_.capacity() * sizeof(KeyframeRecord);
-  for (const PointRecord& p : points_) {
-    bytes += p.keyframes.capacity() * sizeof(std::uint32_t) + p.rays.capacity() * sizeof(RayId);
-  }
-  for (const KeyframeRecord& k : keyframes_) bytes += k.points.capacity() * sizeof(std::uint32_t);
-  return bytes;
+std::vector<std::uint32_t> PointRegistry::takeKeyframePoints(std::uint32_t keyframe) {
+  std::vector<std::uint32_t> points;
+  points.swap(keyframes_[keyframe].points);
+  observation_links_ -= points.size();
+  return points;
+}
+
+void PointRegistry::addKeyframePoint(std::uint32_t keyframe, std::uint32_t point) {
+  keyframes_[keyframe].points.push_back(point);
+  ++observation_links_;
+}
+
+void PointRegistry::removeKeyframePoint(std::uint32_t keyframe, std::uint32_t point) {
+  std::vector<std::uint32_t>& points = keyframes_[keyframe].points;
+  const auto it = std::find(points.begin(), points.end(), point);
+  if (it == points.end()) return;
+  *it = points.back();
+  points.pop_back();
+  --observation_links_;
+}
+
+std::size_t PointRegistry::pointBytes(std::size_t rays) const {
+  // Each observation is listed by its keyframe and by its point; each ray by its point.
+  return points_.capacity() * sizeof(PointRecord) + keyframes_.capacity() * sizeof(KeyframeRecord) +
+         2 * observation_links_ * sizeof(std::uint32_t) + rays * sizeof(RayId);
 }
 
 std::size_t PointRegistry::indexBytes() const {

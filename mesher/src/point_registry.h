@@ -65,7 +65,18 @@ class PointRegistry {
   std::size_t pointCount() const { return point_index_.size(); }
   std::size_t keyframeCount() const { return keyframe_index_.size(); }
 
-  std::size_t pointBytes() const;
+  /// A keyframe's observation list, emptied (for rebuilding or removal).
+  std::vector<std::uint32_t> takeKeyframePoints(std::uint32_t keyframe);
+  /// Appends `point` to `keyframe`'s observation list (the caller keeps it free of repeats).
+  void addKeyframePoint(std::uint32_t keyframe, std::uint32_t point);
+  /// Removes `point` from `keyframe`'s observation list, if there.
+  void removeKeyframePoint(std::uint32_t keyframe, std::uint32_t point);
+  /// Observation links (entries of the keyframes' lists, mirrored in the points' lists).
+  std::size_t observationLinks() const { return observation_links_; }
+
+  /// Estimated bytes of the point and keyframe records and their lists, given the ray count. O(1).
+  std::size_t pointBytes(std::size_t rays) const;
+  /// Estimated bytes of the id maps. O(1).
   std::size_t indexBytes() const;
 
  private:
@@ -75,6 +86,7 @@ class PointRegistry {
   std::vector<KeyframeRecord> keyframes_;
   std::vector<std::uint32_t> free_keyframes_;
   std::unordered_map<KeyframeId, std::uint32_t> keyframe_index_;
+  std::size_t observation_links_ = 0;
 };
 
 }  // namespace terramesh::mesher::internal
