@@ -86,7 +86,17 @@ InvariantReport Mesher::Impl::checkInvariants() const {
            std::to_string(info.spreading) + " but recomputation gives " +
            std::to_string(expected_spread));
     }
-    std::vector<internal::RayId> stored = state_.rays.crossing(cell);
+    std::vector<internal::RayId> stored;
+    const auto& entries = state_.rays.crossing(cell);
+    for (std::size_t position = 0; position < entries.size(); ++position) {
+      const internal::Crossing& entry = entries[position];
+      stored.push_back(entry.ray);
+      const internal::Ray& ray = state_.rays[entry.ray];
+      if (entry.step >= ray.path.size() || ray.path[entry.step] != CellHandle(cell) ||
+          ray.slots[entry.step] != position) {
+        fail("cell " + std::to_string(info.uid) + ": ray list entry does not match its path step");
+      }
+    }
     std::vector<internal::RayId> fresh;
     if (const auto list = lists.find(&*cell); list != lists.end()) fresh = list->second;
     std::sort(stored.begin(), stored.end());

@@ -1,6 +1,5 @@
 #include "ray_store.h"
 
-#include <algorithm>
 #include <cassert>
 
 namespace terramesh::mesher::internal {
@@ -18,70 +17,83 @@ RayId RayStore::create(std::uint32_t point, std::uint32_t keyframe) {
   ray.point = point;
   ray.keyframe = keyframe;
   ray.flags = 0;
+  ray.walk = kWalkedStraight;
   ray.path.clear();
+  ray.slots.clear();
   return id;
 }
 
 void RayStore::destroy(RayId id) {
   Ray& ray = rays_[id];
-  assert(!(ray.flags & kRayTraced));
-  path_entries_ -= ray.path.size();
+  assert(ray.path.empty() && !(ray.flags & kRayTraced));
   ray.point = kNone;
   ray.keyframe = kNone;
   ray.flags = 0;
   std::vector<CellHandle>().swap(ray.path);
+  std::vector<std::uint32_t>().swap(ray.slots);
   free_rays_.push_back(id);
 }
 
-void RayStore::addCrossing(CellHandle cell, RayId ray) {
-  std::uint32_t& slot = cell->info().ray_list;
-  if (slot == kNone) {
-    if (!free_lists_.empty()) {
-      slot = free_lists_.back();
-      free_lists_.pop_back();
-    } else {
-      slot = static_cast<std::uint32_t>(lists_.size());
-      lists_.emplace_back();
+void RayStore::registerPath(RayId id, std::size_t from) {
+  Ray& ray = rays_[id];
+  assert(ray.slots.size() == from);
+  for (std::size_t step = from; step < ray.path.size(); ++step) {
+    std::uint32_t& slot = ray.path[step]->info().ray_list;
+    if (slot == kNone) {
+      if (!free_lists_.empty()) {
+        slot = free_lists_.back();
+        free_lists_.pop_back();
+      } else {
+        slot = static_cast<std::uint32_t>(lists_.size());
+        lists_.emplace_back();
+      }
+    }
+    std::vector<Crossing>& list = lists_[slot];
+    ray.slots.push_back(static_cast<std::uint32_t>(list.size()));
+    list.push_back({id, static_cast<std::uint32_t>(step)});
+  }
+  path_entries_ += ray.path.size() - from;
+}
+
+void RayStore::truncatePath(RayId id, std::size_t length) {
+  Ray& ray = rays_[id];
+  assert(length <= ray.path.size() && ray.slots.size() == ray.path.size());
+  for (std::size_t step = length; step < ray.path.size(); ++step) {
+    std::uint32_t& list_slot = ray.path[step]->info().ray_list;
+    std::vector<Crossing>& list = lists_[list_slot];
+    const std::uint32_t position = ray.slots[step];
+    assert(position < list.size() && list[position].ray == id);
+    // Move the last entry into the hole and tell its ray where it went.
+    const Crossing moved = list.back();
+    list[position] = moved;
+    rays_[moved.ray].slots[moved.step] = position;
+    list.pop_back();
+    if (list.empty()) {
+      std::vector<Crossing>().swap(list);
+      free_lists_.push_back(list_slot);
+      list_slot = kNone;
     }
   }
-  lists_[slot].push_back(ray);
-  ++list_entries_;
+  path_entries_ -= ray.path.size() - length;
+  ray.path.resize(length);
+  ray.slots.resize(length);
 }
 
-void RayStore::clearPath(RayId id) {
-  path_entries_ -= rays_[id].path.size();
-  rays_[id].path.clear();
-}
-
-void RayStore::removeMarkedCrossings(CellHandle cell) {
-  std::uint32_t& slot = cell->info().ray_list;
-  if (slot == kNone) return;
-  std::vector<RayId>& list = lists_[slot];
-  const auto end = std::remove_if(list.begin(), list.end(),
-                                  [this](RayId id) { return (rays_[id].flags & kRayMarked) != 0; });
-  list_entries_ -= static_cast<std::size_t>(list.end() - end);
-  list.erase(end, list.end());
-  if (list.empty()) {
-    std::vector<RayId>().swap(list);
-    free_lists_.push_back(slot);
-    slot = kNone;
-  }
-}
-
-const std::vector<RayId>& RayStore::crossing(const CellHandle& cell) const {
+const std::vector<Crossing>& RayStore::crossing(const CellHandle& cell) const {
   const std::uint32_t slot = cell->info().ray_list;
   return slot == kNone ? empty_ : lists_[slot];
 }
 
 std::size_t RayStore::memoryBytes() const {
-  // Vectors hold their entries plus an allocator header; capacities are not tracked (that would
-  // need a walk over every ray), so entries are counted at their size.
+  // Path steps (handle and slot), list entries (ray and step), allocator headers of the vectors;
+  // capacities are not walked (O(1) estimate).
   constexpr std::size_t kAllocationOverhead = 16;
   const std::size_t live_lists = lists_.size() - free_lists_.size();
   return rays_.capacity() * sizeof(Ray) + free_rays_.capacity() * sizeof(RayId) +
-         lists_.capacity() * sizeof(std::vector<RayId>) + free_lists_.capacity() * sizeof(std::uint32_t) +
-         path_entries_ * sizeof(CellHandle) + size() * kAllocationOverhead +
-         list_entries_ * sizeof(RayId) + live_lists * kAllocationOverhead;
+         lists_.capacity() * sizeof(std::vector<Crossing>) +
+         free_lists_.capacity() * sizeof(std::uint32_t) +
+         path_entries_ * (sizeof(CellHandle) + sizeof(std::uint32_t) + sizeof(Crossing)) +
+         size() * 2 * kAllocationOverhead + live_lists * kAllocationOverhead;
 }
 
 }  // namespace terramesh::mesher::internal

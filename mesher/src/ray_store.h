@@ -13,26 +13,41 @@ enum RayFlag : std::uint8_t {
   kRayTraced = 1u << 0,      ///< votes are in the cells of `path`
   kRayNeedsTrace = 1u << 1,  ///< must be (re)walked at the end of the update
   kRayNewSegment = 1u << 2,  ///< its segment is new or changed since it was last traced
-  kRayMarked = 1u << 3,      ///< scratch: member of the batch being untraced
+  kRayMarked = 1u << 3,      ///< scratch: member of the batch being processed
+  kRayPartial = 1u << 4,     ///< `path` is a still-valid prefix; the walk resumes from its end
 };
+
+/// How a ray's path was walked: straight from the camera, or from a displaced camera.
+inline constexpr std::uint8_t kWalkedStraight = 0;
 
 /// A camera-to-point visibility ray and the cells its segment crosses (camera end first).
 struct Ray {
   std::uint32_t point = kNone;     ///< PointRegistry index
   std::uint32_t keyframe = kNone;  ///< KeyframeRegistry index
   std::uint8_t flags = 0;
+  /// kWalkedStraight, or 1 + the displacement used for a degenerate ray (see RayWalker).
+  std::uint8_t walk = kWalkedStraight;
   std::vector<CellHandle> path;
+  /// slots[i]: where this ray's entry sits in the ray list of path[i] (for O(1) removal).
+  std::vector<std::uint32_t> slots;
 
   bool alive() const { return point != kNone; }
 };
 
+/// One entry of a cell's ray list: the ray, and which step of its path the cell is.
+struct Crossing {
+  RayId ray;
+  std::uint32_t step;
+};
+
 /// Rays with their paths, and for every crossed cell the list of rays crossing it (the inverse
-/// index that tells which rays to retrace when cells are destroyed). Ray ids and list slots are
+/// index that tells which rays to retrace when cells are destroyed). Path steps and list entries
+/// point at each other, so a crossing is added or removed in O(1). Ray ids and list slots are
 /// recycled.
 class RayStore {
  public:
   RayId create(std::uint32_t point, std::uint32_t keyframe);
-  /// Frees a ray. Requires it untraced.
+  /// Frees a ray. Requires its path empty.
   void destroy(RayId id);
 
   Ray& operator[](RayId id) { return rays_[id]; }
@@ -40,16 +55,14 @@ class RayStore {
   std::size_t slotCount() const { return rays_.size(); }
   std::size_t size() const { return rays_.size() - free_rays_.size(); }
 
-  /// Records that `ray` crosses `cell` (the ray's path holds the cell too: see setPath).
-  void addCrossing(CellHandle cell, RayId ray);
-  /// Clears a ray's path, keeping the crossing totals in step.
-  void clearPath(RayId id);
-  /// Accounts for a path just filled by a walk (its size joins the crossing totals).
-  void notePathFilled(RayId id) { path_entries_ += rays_[id].path.size(); }
-  /// Removes every ray flagged kRayMarked from the list of `cell`; frees the list when empty.
-  void removeMarkedCrossings(CellHandle cell);
+  /// Enters path[from, end) of a ray (just appended by a walk) into the cells' ray lists.
+  void registerPath(RayId id, std::size_t from);
+  /// Shortens a ray's path to its first `length` steps, leaving the dropped cells' lists.
+  void truncatePath(RayId id, std::size_t length);
+  void clearPath(RayId id) { truncatePath(id, 0); }
+
   /// Rays crossing `cell` (empty when none).
-  const std::vector<RayId>& crossing(const CellHandle& cell) const;
+  const std::vector<Crossing>& crossing(const CellHandle& cell) const;
 
   /// Estimated bytes held: ray records, path entries, per-cell list entries and slots. O(1).
   std::size_t memoryBytes() const;
@@ -59,11 +72,10 @@ class RayStore {
  private:
   std::vector<Ray> rays_;
   std::vector<RayId> free_rays_;
-  std::vector<std::vector<RayId>> lists_;
+  std::vector<std::vector<Crossing>> lists_;
   std::vector<std::uint32_t> free_lists_;
-  std::vector<RayId> empty_;
+  std::vector<Crossing> empty_;
   std::size_t path_entries_ = 0;
-  std::size_t list_entries_ = 0;
 };
 
 }  // namespace terramesh::mesher::internal

@@ -33,10 +33,12 @@ constexpr std::size_t kMaxSteps = 50'000'000;
 
 }  // namespace
 
-void RayWalker::walk(const CameraLocation& camera, VertexHandle target,
-                     std::vector<CellHandle>& path, WalkCounters& counters) const {
+std::uint8_t RayWalker::walk(const CameraLocation& camera, VertexHandle target,
+                             std::vector<CellHandle>& path, WalkCounters& counters) const {
   path.clear();
-  if (camera.type == Delaunay::CELL && walkStraight(camera, target, path, counters)) return;
+  if (camera.type == Delaunay::CELL && walkStraight(camera, target, path, counters)) {
+    return kWalkedStraight;
+  }
   ++counters.fallbacks;
   // Generic directions (no two alike, none along an axis or a diagonal).
   static constexpr double kDirections[4][3] = {
@@ -52,101 +54,118 @@ void RayWalker::walk(const CameraLocation& camera, VertexHandle target,
     displaced.cell = tri_.locate(displaced.position, displaced.type, displaced.li, displaced.lj,
                                  camera.cell);
     path.clear();
-    if (displaced.type == Delaunay::CELL && walkStraight(displaced, target, path, counters)) return;
+    if (displaced.type == Delaunay::CELL && walkStraight(displaced, target, path, counters)) {
+      return static_cast<std::uint8_t>(1 + attempt);
+    }
   }
   path.clear();
   ++counters.failures;
+  return 255;
+}
+
+bool RayWalker::resume(const Point& camera_W, VertexHandle target, std::vector<CellHandle>& path,
+                       WalkCounters& counters) const {
+  const std::size_t prefix = path.size();
+  const CellHandle cell = path.back();
+  const int entry = prefix >= 2 ? cell->index(path[prefix - 2]) : -1;
+  if (walkFrom(cell, entry, camera_W, target, path, counters)) return true;
+  path.resize(prefix);
+  return false;
 }
 
 bool RayWalker::walkStraight(const CameraLocation& camera, VertexHandle target,
                              std::vector<CellHandle>& path, WalkCounters& counters) const {
-  const auto orientation = tri_.geom_traits().orientation_3_object();
-  const Point& q = camera.position;
-  const Point& p = target->point();
-  CellHandle cell = camera.cell;
+  const CellHandle cell = camera.cell;
   if (tri_.is_infinite(cell)) return false;
   path.push_back(cell);
   if (cell->has_vertex(target)) return true;
+  return walkFrom(cell, -1, camera.position, target, path, counters);
+}
 
-  // First cell: the camera is inside; the segment leaves through the facet whose three edges
-  // (wound outwards) all see the line q->p on their positive side.
-  int exit = -1;
-  {
-    LazySigns edge_signs;
-    edge_signs.reset();
-    auto side = [&](int a, int b) {
-      const CGAL::Orientation s = edge_signs.get(edgeIndex(a, b), [&] {
-        return orientation(q, p, cell->vertex(a < b ? a : b)->point(),
-                           cell->vertex(a < b ? b : a)->point());
-      });
-      return a < b ? s : -s;
-    };
-    for (int j = 0; j < 4 && exit < 0; ++j) {
-      const int a = outwardFacetVertex(j, 0);
-      const int b = outwardFacetVertex(j, 1);
-      const int c = outwardFacetVertex(j, 2);
-      if (side(a, b) == CGAL::POSITIVE && side(b, c) == CGAL::POSITIVE &&
-          side(c, a) == CGAL::POSITIVE) {
-        exit = j;
+int RayWalker::exitFromInside(const CellHandle& cell, const Point& q, const Point& p) const {
+  // The camera is inside: the segment leaves through the facet whose three edges (wound
+  // outwards) all see the line q->p on their positive side.
+  const auto orientation = tri_.geom_traits().orientation_3_object();
+  LazySigns edge_signs;
+  edge_signs.reset();
+  auto side = [&](int a, int b) {
+    const CGAL::Orientation s = edge_signs.get(edgeIndex(a, b), [&] {
+      return orientation(q, p, cell->vertex(a < b ? a : b)->point(), cell->vertex(a < b ? b : a)->point());
+    });
+    return a < b ? s : -s;
+  };
+  for (int j = 0; j < 4; ++j) {
+    const int a = outwardFacetVertex(j, 0);
+    const int b = outwardFacetVertex(j, 1);
+    const int c = outwardFacetVertex(j, 2);
+    if (side(a, b) == CGAL::POSITIVE && side(b, c) == CGAL::POSITIVE && side(c, a) == CGAL::POSITIVE) {
+      return j;
+    }
+  }
+  return -1;
+}
+
+int RayWalker::exitAfterEntry(const CellHandle& cell, int entry, const Point& q, const Point& p,
+                              WalkCounters& counters) const {
+  // Candidate facet j != entry, wound outwards and rotated to (apex, a, b): the segment leaves
+  // through it iff orient(q,p,apex,a) > 0 and orient(q,p,apex,b) < 0.
+  const auto orientation = tri_.geom_traits().orientation_3_object();
+  const Point& apex = cell->vertex(entry)->point();
+  std::array<CGAL::Orientation, 4> t{};
+  std::array<bool, 4> known{};
+  auto sign_to = [&](int local) {
+    if (!known[static_cast<std::size_t>(local)]) {
+      t[static_cast<std::size_t>(local)] = orientation(q, p, apex, cell->vertex(local)->point());
+      known[static_cast<std::size_t>(local)] = true;
+    }
+    return t[static_cast<std::size_t>(local)];
+  };
+  auto leaves_through = [&](int j) {
+    int a = -1;
+    int b = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (outwardFacetVertex(j, k) == entry) {
+        a = outwardFacetVertex(j, (k + 1) % 3);
+        b = outwardFacetVertex(j, (k + 2) % 3);
+      }
+    }
+    return sign_to(a) == CGAL::POSITIVE && sign_to(b) == CGAL::NEGATIVE;
+  };
+  int tested = -1;
+  if (use_cache_) {
+    const int cached = cell->info().next_facet;
+    if (cached < 4 && cached != entry) {
+      ++counters.cache_lookups;
+      tested = cached;
+      if (leaves_through(cached)) {
+        ++counters.cache_hits;
+        return cached;
       }
     }
   }
-  if (exit < 0) return false;
+  for (int j = 0; j < 4; ++j) {
+    if (j != entry && j != tested && leaves_through(j)) return j;
+  }
+  return -1;
+}
 
+bool RayWalker::walkFrom(CellHandle cell, int entry, const Point& q, VertexHandle target,
+                         std::vector<CellHandle>& path, WalkCounters& counters) const {
+  const Point& p = target->point();
+  int exit = entry < 0 ? exitFromInside(cell, q, p) : exitAfterEntry(cell, entry, q, p, counters);
   std::size_t steps = 0;
-  while (true) {
+  while (exit >= 0) {
     if (use_cache_) cell->info().next_facet = static_cast<std::uint8_t>(exit);
     const CellHandle next = cell->neighbor(exit);
-    const int entry = next->index(cell);
+    entry = next->index(cell);
     cell = next;
     path.push_back(cell);
     ++counters.steps;
     if (++steps > kMaxSteps || tri_.is_infinite(cell)) return false;
-    const VertexHandle apex = cell->vertex(entry);
-    if (apex == target) return true;
-
-    // Candidate facet j != entry, wound outwards and rotated to (apex, a, b): the segment leaves
-    // through it iff orient(q,p,apex,a) > 0 and orient(q,p,apex,b) < 0.
-    std::array<CGAL::Orientation, 4> t{};
-    std::array<bool, 4> known{};
-    auto sign_to = [&](int local) {
-      if (!known[static_cast<std::size_t>(local)]) {
-        t[static_cast<std::size_t>(local)] =
-            orientation(q, p, apex->point(), cell->vertex(local)->point());
-        known[static_cast<std::size_t>(local)] = true;
-      }
-      return t[static_cast<std::size_t>(local)];
-    };
-    auto leaves_through = [&](int j) {
-      int a = -1;
-      int b = -1;
-      for (int k = 0; k < 3; ++k) {
-        if (outwardFacetVertex(j, k) == entry) {
-          a = outwardFacetVertex(j, (k + 1) % 3);
-          b = outwardFacetVertex(j, (k + 2) % 3);
-        }
-      }
-      return sign_to(a) == CGAL::POSITIVE && sign_to(b) == CGAL::NEGATIVE;
-    };
-
-    exit = -1;
-    int tested = -1;
-    if (use_cache_) {
-      const int cached = cell->info().next_facet;
-      if (cached < 4 && cached != entry) {
-        ++counters.cache_lookups;
-        tested = cached;
-        if (leaves_through(cached)) {
-          ++counters.cache_hits;
-          exit = cached;
-        }
-      }
-    }
-    for (int j = 0; j < 4 && exit < 0; ++j) {
-      if (j != entry && j != tested && leaves_through(j)) exit = j;
-    }
-    if (exit < 0) return false;
+    if (cell->vertex(entry) == target) return true;
+    exit = exitAfterEntry(cell, entry, q, p, counters);
   }
+  return false;
 }
 
 }  // namespace terramesh::mesher::internal

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "cgal_types.h"
+#include "ray_store.h"
 
 namespace terramesh::mesher::internal {
 
@@ -40,14 +41,30 @@ class RayWalker {
  public:
   RayWalker(const Delaunay& tri, bool use_cache) : tri_(tri), use_cache_(use_cache) {}
 
-  /// Appends to `path` (cleared first) the cells crossed from the camera to `target`, camera end
-  /// first; the last cell is incident to `target`.
-  void walk(const CameraLocation& camera, VertexHandle target, std::vector<CellHandle>& path,
-            WalkCounters& counters) const;
+  /// Fills `path` (cleared first) with the cells crossed from the camera to `target`, camera end
+  /// first; the last cell is incident to `target`. Returns kWalkedStraight, or 1 + the index of
+  /// the camera displacement that resolved a degenerate ray (path left empty if none did).
+  std::uint8_t walk(const CameraLocation& camera, VertexHandle target, std::vector<CellHandle>& path,
+                    WalkCounters& counters) const;
+
+  /// Continues a straight walk from camera `camera_W` whose first cells are already in `path`
+  /// (a prefix of the ray's path: alive cells, none incident to `target`). Returns false, with
+  /// `path` back to the prefix, if the rest is degenerate (the caller then walks the whole ray).
+  bool resume(const Point& camera_W, VertexHandle target, std::vector<CellHandle>& path,
+              WalkCounters& counters) const;
 
  private:
   bool walkStraight(const CameraLocation& camera, VertexHandle target,
                     std::vector<CellHandle>& path, WalkCounters& counters) const;
+  /// Walks on from `cell` (the last cell of `path`), entered through facet `entry`, or containing
+  /// the camera when `entry` is negative. False on degenerate geometry.
+  bool walkFrom(CellHandle cell, int entry, const Point& q, VertexHandle target,
+                std::vector<CellHandle>& path, WalkCounters& counters) const;
+  /// The facet through which segment q->p leaves a cell it contains, or -1 if not strict.
+  int exitFromInside(const CellHandle& cell, const Point& q, const Point& p) const;
+  /// The facet through which segment q->p leaves `cell` after entering through `entry`, or -1.
+  int exitAfterEntry(const CellHandle& cell, int entry, const Point& q, const Point& p,
+                     WalkCounters& counters) const;
 
   const Delaunay& tri_;
   bool use_cache_;

@@ -1,5 +1,6 @@
 #include "triangulation_editor.h"
 
+#include <algorithm>
 #include <cassert>
 #include <iterator>
 
@@ -82,18 +83,23 @@ void TriangulationEditor::remove(VertexHandle v, std::vector<RayId>& retrace) {
 
 void TriangulationEditor::untraceCrossing(const std::vector<CellHandle>& doomed,
                                           std::vector<RayId>& retrace) {
+  const std::uint32_t doomed_mark = state_.nextMark();
+  for (const CellHandle& cell : doomed) cell->info().mark = doomed_mark;
   batch_.clear();
   for (const CellHandle& cell : doomed) {
-    for (RayId id : state_.rays.crossing(cell)) {
-      Ray& ray = state_.rays[id];
-      if (ray.flags & kRayNeedsTrace) continue;
-      ray.flags |= kRayNeedsTrace;
-      batch_.push_back(id);
-    }
+    for (const Crossing& crossing : state_.rays.crossing(cell)) batch_.push_back(crossing.ray);
   }
   if (batch_.empty()) return;
-  tracer_.untrace(batch_);
-  retrace.insert(retrace.end(), batch_.begin(), batch_.end());
+  std::sort(batch_.begin(), batch_.end());
+  batch_.erase(std::unique(batch_.begin(), batch_.end()), batch_.end());
+  // Only what lies beyond the first doomed cell of each ray is withdrawn and walked again.
+  tracer_.truncateAtDoomed(batch_, doomed_mark);
+  for (RayId id : batch_) {
+    Ray& ray = state_.rays[id];
+    if (ray.flags & kRayNeedsTrace) continue;
+    ray.flags |= kRayNeedsTrace;
+    retrace.push_back(id);
+  }
 }
 
 void TriangulationEditor::registerNewCells(const std::vector<CellHandle>& cells) {

@@ -19,29 +19,74 @@ void VisibilityTracer::applyChanges() {
   changed_.clear();
 }
 
+void VisibilityTracer::withdrawSuffix(Ray& ray, std::size_t from, std::uint32_t mark) {
+  // In a complete path the last cell (the cone's apex) does not spread; in a partial one every
+  // cell does (the ray goes on beyond it).
+  const bool complete = !(ray.flags & kRayPartial);
+  const std::size_t size = ray.path.size();
+  for (std::size_t i = from; i < size; ++i) {
+    const CellHandle& cell = ray.path[i];
+    noteChange(cell, mark);
+    assert(cell->info().crossings > 0);
+    --cell->info().crossings;
+    if (!complete || i + 1 < size) --cell->info().spreading;
+  }
+}
+
 void VisibilityTracer::untrace(const std::vector<RayId>& batch) {
   const std::uint32_t mark = state_.nextMark();
   RayStore& rays = state_.rays;
   for (RayId id : batch) {
     Ray& ray = rays[id];
-    if (!(ray.flags & kRayTraced) || (ray.flags & kRayMarked)) continue;
-    ray.flags |= kRayMarked;
-    for (std::size_t i = 0; i < ray.path.size(); ++i) {
-      const CellHandle& cell = ray.path[i];
-      noteChange(cell, mark);
-      assert(cell->info().crossings > 0);
-      --cell->info().crossings;
-      if (i + 1 < ray.path.size()) --cell->info().spreading;
-    }
-  }
-  for (const Change& change : changed_) rays.removeMarkedCrossings(change.cell);
-  for (RayId id : batch) {
-    Ray& ray = rays[id];
-    if (!(ray.flags & kRayMarked)) continue;
-    ray.flags &= static_cast<std::uint8_t>(~(kRayMarked | kRayTraced));
+    if (!(ray.flags & kRayTraced)) continue;
+    withdrawSuffix(ray, 0, mark);
     rays.clearPath(id);
+    ray.flags &= static_cast<std::uint8_t>(~(kRayTraced | kRayPartial));
   }
   applyChanges();
+}
+
+void VisibilityTracer::truncateAtDoomed(const std::vector<RayId>& batch, std::uint32_t doomed_mark) {
+  RayStore& rays = state_.rays;
+  // Find every cut before marking anything: the vote bookkeeping reuses the cell marks.
+  cuts_.clear();
+  for (RayId id : batch) {
+    const Ray& ray = rays[id];
+    std::size_t cut = 0;
+    if (ray.walk == kWalkedStraight) {
+      while (cut < ray.path.size() && ray.path[cut]->info().mark != doomed_mark) ++cut;
+    }
+    cuts_.push_back(cut);
+  }
+  const std::uint32_t mark = state_.nextMark();
+  for (std::size_t b = 0; b < batch.size(); ++b) {
+    const RayId id = batch[b];
+    Ray& ray = rays[id];
+    if (!(ray.flags & kRayTraced)) continue;
+    withdrawSuffix(ray, cuts_[b], mark);
+    // The ray leaves the lists of its withdrawn cells only; its prefix cells keep it.
+    rays.truncatePath(id, cuts_[b]);
+    if (cuts_[b] == 0) {
+      ray.flags &= static_cast<std::uint8_t>(~(kRayTraced | kRayPartial));
+    } else {
+      ray.flags |= kRayPartial;
+    }
+  }
+  applyChanges();
+}
+
+void VisibilityTracer::addVotes(RayId id, std::size_t from, std::uint32_t mark) {
+  // `mark` is the batch's: each cell's counts before the batch are recorded once.
+  Ray& ray = state_.rays[id];
+  const std::size_t size = ray.path.size();
+  for (std::size_t i = from; i < size; ++i) {
+    const CellHandle& cell = ray.path[i];
+    noteChange(cell, mark);
+    ++cell->info().crossings;
+    if (i + 1 < size) ++cell->info().spreading;  // the last cell is the cone's apex
+  }
+  // The old last cell of a resumed prefix already counted as spreading.
+  state_.rays.registerPath(id, from);
 }
 
 CameraLocation VisibilityTracer::locateCamera(std::uint32_t keyframe) {
@@ -61,29 +106,37 @@ void VisibilityTracer::trace(const std::vector<RayId>& batch, WalkCounters& coun
   std::sort(order_.begin(), order_.end(),
             [&rays](RayId a, RayId b) { return rays[a].keyframe < rays[b].keyframe; });
   const std::uint32_t mark = state_.nextMark();
+  std::vector<RayId> restart;
   std::uint32_t located = kNone;
   CameraLocation camera;
   for (RayId id : order_) {
     Ray& ray = rays[id];
     ray.flags &= static_cast<std::uint8_t>(~(kRayNeedsTrace | kRayNewSegment));
+    const VertexHandle target = state_.registry.point(ray.point).vertex;
+    if (ray.flags & kRayPartial) {
+      const std::size_t prefix = ray.path.size();
+      const Point camera_W = toPoint(state_.registry.keyframe(ray.keyframe).centre_W);
+      if (walker_.resume(camera_W, target, ray.path, counters)) {
+        ray.flags &= static_cast<std::uint8_t>(~kRayPartial);
+        addVotes(id, prefix, mark);
+      } else {
+        restart.push_back(id);  // degenerate further on: walked again from scratch below
+      }
+      continue;
+    }
     if (ray.flags & kRayTraced) continue;
     if (ray.keyframe != located) {
       camera = locateCamera(ray.keyframe);
       located = ray.keyframe;
     }
-    const VertexHandle target = state_.registry.point(ray.point).vertex;
-    walker_.walk(camera, target, ray.path, counters);
-    rays.notePathFilled(id);
-    for (std::size_t i = 0; i < ray.path.size(); ++i) {
-      const CellHandle& cell = ray.path[i];
-      noteChange(cell, mark);
-      ++cell->info().crossings;
-      if (i + 1 < ray.path.size()) ++cell->info().spreading;  // the last cell is the cone's apex
-      rays.addCrossing(cell, id);
-    }
+    ray.walk = walker_.walk(camera, target, ray.path, counters);
+    addVotes(id, 0, mark);
     ray.flags |= kRayTraced;
   }
   applyChanges();
+  if (restart.empty()) return;
+  untrace(restart);
+  trace(restart, counters);
 }
 
 void VisibilityTracer::walkOnly(const Ray& ray, std::vector<CellHandle>& path,

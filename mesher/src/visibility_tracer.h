@@ -15,11 +15,18 @@ class VisibilityTracer {
   explicit VisibilityTracer(MapState& state)
       : state_(state), walker_(state.tri, state.config.next_cell_cache) {}
 
-  /// Withdraws the votes of the traced rays in `batch` (untraced rays are skipped). Their paths are
-  /// cleared; flags other than kRayTraced are kept.
+  /// Withdraws all votes of the rays in `batch` that have any (untraced rays are skipped). Their
+  /// paths are cleared; flags other than kRayTraced and kRayPartial are kept.
   void untrace(const std::vector<RayId>& batch);
 
-  /// Walks and votes for every untraced ray in `batch`; clears kRayNeedsTrace and kRayNewSegment.
+  /// Cells marked `doomed_mark` are about to be destroyed. For each ray of `batch` (all crossing
+  /// such cells), keeps the prefix of its path before the first doomed cell (flagged kRayPartial:
+  /// still voting, to be walked on from its end) and withdraws the votes of the rest. Rays walked
+  /// from a displaced camera, or whose first cell is doomed, lose their whole path.
+  void truncateAtDoomed(const std::vector<RayId>& batch, std::uint32_t doomed_mark);
+
+  /// Walks and votes for every ray in `batch` that is not fully traced (resuming partial rays);
+  /// clears kRayNeedsTrace and kRayNewSegment.
   void trace(const std::vector<RayId>& batch, WalkCounters& counters);
 
   /// Where the camera of keyframe `keyframe` lies now (updates the keyframe's hint).
@@ -32,6 +39,10 @@ class VisibilityTracer {
   /// Remembers the crossing count of `cell` before this batch changed it.
   void noteChange(const CellHandle& cell, std::uint32_t mark);
   void applyChanges();
+  /// Withdraws the votes of path[from, end) of a ray (flagged kRayMarked for list removal).
+  void withdrawSuffix(Ray& ray, std::size_t from, std::uint32_t mark);
+  /// Votes for path[from, end) of a ray; `complete` when the path now ends at the point.
+  void addVotes(RayId id, std::size_t from, std::uint32_t mark);
 
   MapState& state_;
   RayWalker walker_;
@@ -42,6 +53,8 @@ class VisibilityTracer {
   };
   std::vector<Change> changed_;
   std::vector<RayId> order_;
+  std::vector<std::size_t> cuts_;
+
 };
 
 }  // namespace terramesh::mesher::internal
