@@ -87,6 +87,9 @@ void BM_ManifoldTest(benchmark::State& state) {
   BoundaryHash hash(true);
   OutsideSet outside(tri, grid, hash, epochs);
   for (const Point& p : streetPoints(20000, 2)) tri.insert(p);
+  for (auto cell = tri.all_cells_begin(); cell != tri.all_cells_end(); ++cell) {
+    for (int i = 0; i < 4; ++i) ++cell->vertex(i)->info().degree;
+  }
   // Grow a large O, then time canAdd on its frontier.
   std::mt19937 rng(3);
   std::vector<CellHandle> members{tri.finite_cells_begin()};

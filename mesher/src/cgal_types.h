@@ -25,6 +25,8 @@ struct VertexInfo {
   std::uint32_t mark = 0;
   /// Number of incident cells in the outside set O.
   std::uint16_t outside_cells = 0;
+  /// Number of incident cells (finite or not); kept by TriangulationEditor.
+  std::uint16_t degree = 0;
   bool steiner = false;
 };
 

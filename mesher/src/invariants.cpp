@@ -132,6 +132,7 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     const std::string name = "vertex at (" + std::to_string(v->point().x()) + ", " +
                              std::to_string(v->point().y()) + ", " + std::to_string(v->point().z()) + ")";
     if (info.outside_cells != count) fail(name + ": outside-cell counter is wrong");
+    if (info.degree != incident.size()) fail(name + ": degree counter is wrong");
     if ((info.hash_slot != internal::kNone) != (count > 0)) fail(name + ": boundary hash membership is wrong");
     if (info.hash_slot != internal::kNone) {
       ++hashed;

@@ -15,6 +15,7 @@ void TriangulationEditor::bootstrap(const std::vector<Eigen::Vector3d>& steiner_
   state_.steiner_vertices += state_.tri.number_of_vertices();
   for (auto cell = state_.tri.all_cells_begin(); cell != state_.tri.all_cells_end(); ++cell) {
     state_.stampNewCell(cell);
+    for (int i = 0; i < 4; ++i) ++cell->vertex(i)->info().degree;
   }
   hint_ = state_.tri.infinite_cell();
 }
@@ -56,6 +57,7 @@ TriangulationEditor::InsertResult TriangulationEditor::insert(const Eigen::Vecto
     if (cell->info().outside()) return InsertResult::kConflictsWithOutside;
   }
   untraceCrossing(conflict_cells_, retrace);
+  forgetCells(conflict_cells_);
   const Facet& facet = boundary_facets_.front();
   vertex = state_.tri.insert_in_hole(p, conflict_cells_.begin(), conflict_cells_.end(),
                                      facet.first, facet.second);
@@ -75,6 +77,7 @@ void TriangulationEditor::remove(VertexHandle v, std::vector<RayId>& retrace) {
   conflict_cells_.clear();
   state_.tri.incident_cells(v, std::back_inserter(conflict_cells_));
   untraceCrossing(conflict_cells_, retrace);
+  forgetCells(conflict_cells_);
   new_cells_.clear();
   state_.tri.remove_and_give_new_cells(v, std::back_inserter(new_cells_));
   registerNewCells(new_cells_);
@@ -102,11 +105,18 @@ void TriangulationEditor::untraceCrossing(const std::vector<CellHandle>& doomed,
   }
 }
 
+void TriangulationEditor::forgetCells(const std::vector<CellHandle>& doomed) {
+  for (const CellHandle& cell : doomed) {
+    for (int i = 0; i < 4; ++i) --cell->vertex(i)->info().degree;
+  }
+}
+
 void TriangulationEditor::registerNewCells(const std::vector<CellHandle>& cells) {
   const std::uint32_t mark = state_.nextMark();
   for (const CellHandle& cell : cells) {
     state_.stampNewCell(cell);
     cell->info().mark = mark;
+    for (int i = 0; i < 4; ++i) ++cell->vertex(i)->info().degree;
   }
   // New cells have no crossings; their weights, and those of the cells around the re-triangulated
   // region, depend on the new adjacency.

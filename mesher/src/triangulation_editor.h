@@ -37,6 +37,8 @@ class TriangulationEditor {
 
  private:
   void untraceCrossing(const std::vector<CellHandle>& doomed, std::vector<RayId>& retrace);
+  /// Vertex degrees lose the cells about to be destroyed.
+  void forgetCells(const std::vector<CellHandle>& doomed);
   void registerNewCells(const std::vector<CellHandle>& cells);
 
   MapState& state_;

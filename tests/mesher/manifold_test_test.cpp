@@ -45,6 +45,10 @@ class ManifoldTestOracle : public ::testing::Test {
     for (auto cell = tri_.finite_cells_begin(); cell != tri_.finite_cells_end(); ++cell) {
       cells_.push_back(cell);
     }
+    // Vertex degrees, which the mesher's editor keeps (the removal rule reads them).
+    for (auto cell = tri_.all_cells_begin(); cell != tri_.all_cells_end(); ++cell) {
+      for (int i = 0; i < 4; ++i) ++cell->vertex(i)->info().degree;
+    }
   }
 
   /// Flips `cell` without checks and returns whether the result is a closed manifold.
@@ -99,6 +103,44 @@ TEST_F(ManifoldTestOracle, CanAddAndCanRemoveAgreeWithTheResultingSurface) {
   EXPECT_GT(refused, 20u);
   EXPECT_GT(removed, 20u);
   EXPECT_GT(kept, 20u);
+
+}
+
+TEST_F(ManifoldTestOracle, RemovalsAroundAnInteriorVertexAgreeWithTheResultingSurface) {
+  // Fill the whole star of a vertex far from the hull, so it becomes interior to O.
+  VertexHandle centre;
+  for (auto v = tri_.finite_vertices_begin(); v != tri_.finite_vertices_end(); ++v) {
+    if (toEigen(v->point()).norm() < 1.5) {
+      centre = v;
+      break;
+    }
+  }
+  ASSERT_NE(centre, VertexHandle());
+  std::vector<CellHandle> star;
+  tri_.incident_cells(centre, std::back_inserter(star));
+  outside_.add(star.front());
+  bool progress = true;
+  while (progress) {
+    progress = false;
+    for (const CellHandle& cell : star) {
+      if (cell->info().outside()) continue;
+      const bool predicted = outside_.canAdd(cell);
+      ASSERT_EQ(predicted, manifoldAfterFlip(cell));
+      if (predicted) {
+        outside_.add(cell);
+        progress = true;
+      }
+    }
+  }
+  ASSERT_EQ(centre->info().outside_cells, centre->info().degree) << "the vertex is interior";
+  // Removing any one cell of the star opens a cavity at the centre: check each against the oracle.
+  std::size_t allowed = 0;
+  for (const CellHandle& cell : star) {
+    const bool predicted = outside_.canRemove(cell);
+    ASSERT_EQ(predicted, manifoldAfterFlip(cell));
+    allowed += predicted;
+  }
+  EXPECT_GT(allowed, 0u);
 }
 
 TEST_F(ManifoldTestOracle, CanAddAllAgreesWithTheResultingSurface) {
