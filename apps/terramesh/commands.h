@@ -14,5 +14,6 @@ inline constexpr int kExitBadInput = 2;    ///< usage error or unreadable/invali
 /// throwing (UsageError, InputError, std::exception); main prints them on one line.
 int runMesh(const std::vector<std::string>& args);
 int runGenerate(const std::vector<std::string>& args);
+int runBench(const std::vector<std::string>& args);
 
 }  // namespace terramesh::cli

@@ -19,6 +19,7 @@ struct Command {
 
 const Command kCommands[] = {
     {"mesh", "incremental manifold mesh from a SLAM stream", terramesh::cli::runMesh},
+    {"bench", "run modes on one stream; print the paper's Tables II and IV", terramesh::cli::runBench},
     {"generate", "synthetic SLAM stream with ground truth (street, offroad, garage)", terramesh::cli::runGenerate},
 };
 

@@ -1,0 +1,10 @@
+#pragma once
+
+#include <string>
+
+namespace terramesh::cli {
+
+/// "CPU model, N cores, M GiB" for benchmark reports, read from /proc (Linux).
+std::string describeMachine();
+
+}  // namespace terramesh::cli
