@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <numeric>
 #include <unordered_map>
 
 #include "mesher_impl.h"
@@ -10,6 +11,39 @@ using internal::kRayMarked;
 using internal::kRayNeedsTrace;
 using internal::kRayTraced;
 using internal::VertexHandle;
+
+namespace {
+
+/// Puts a mesh in a canonical order, independent of where the triangulation's cells sit in memory:
+/// vertices sorted by position, each face rotated to start at its smallest index (winding kept),
+/// faces sorted.
+void canonicalize(TriangleMesh& mesh) {
+  std::vector<std::uint32_t> order(mesh.vertices.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&mesh](std::uint32_t a, std::uint32_t b) {
+    const Eigen::Vector3d& p = mesh.vertices[a];
+    const Eigen::Vector3d& q = mesh.vertices[b];
+    return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+  });
+  std::vector<std::uint32_t> rank(order.size());
+  TriangleMesh sorted;
+  sorted.vertices.reserve(order.size());
+  sorted.is_steiner.reserve(order.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) {
+    rank[order[i]] = i;
+    sorted.vertices.push_back(mesh.vertices[order[i]]);
+    sorted.is_steiner.push_back(mesh.is_steiner[order[i]]);
+  }
+  sorted.faces = std::move(mesh.faces);
+  for (auto& face : sorted.faces) {
+    for (auto& index : face) index = rank[index];
+    std::rotate(face.begin(), std::min_element(face.begin(), face.end()), face.end());
+  }
+  std::sort(sorted.faces.begin(), sorted.faces.end());
+  mesh = std::move(sorted);
+}
+
+}  // namespace
 
 TriangleMesh Mesher::Impl::extractMesh() const {
   TriangleMesh mesh;
@@ -36,6 +70,7 @@ TriangleMesh Mesher::Impl::extractMesh() const {
       mesh.faces.push_back(face);
     }
   }
+  canonicalize(mesh);
   return mesh;
 }
 

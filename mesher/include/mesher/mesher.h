@@ -88,7 +88,8 @@ class Mesher {
   UpdateStats removeKeyframe(KeyframeId keyframe);
 
   /// The boundary of O as a closed, consistently oriented 2-manifold (vertices include Steiner
-  /// vertices, flagged in `is_steiner`). O(number of cells).
+  /// vertices, flagged in `is_steiner`), in a canonical order: vertices sorted by position, faces
+  /// sorted, so equal surfaces give equal meshes. O(cells + F log F).
   TriangleMesh extractMesh() const;
 
   MapSize size() const;
