@@ -1,5 +1,6 @@
 #include "cli_args.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -130,6 +131,29 @@ std::string ArgParser::usage() const {
     out << '\n';
   }
   return out.str();
+}
+
+std::vector<std::optional<std::size_t>> parseColonIntegers(const std::string& text, const std::string& option,
+                                                          const std::string& form, std::size_t max_fields) {
+  auto fail = [&]() {
+    return UsageError(option + " expects " + form + " with non-negative integers, got \"" + text + "\"");
+  };
+  std::vector<std::optional<std::size_t>> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t colon = std::min(text.find(':', start), text.size());
+    const std::string part = text.substr(start, colon - start);
+    if (part.empty()) {
+      fields.emplace_back();
+    } else {
+      if (part.find_first_not_of("0123456789") != std::string::npos || part.size() > 18) throw fail();
+      fields.emplace_back(static_cast<std::size_t>(std::stoull(part)));
+    }
+    if (fields.size() > max_fields) throw fail();
+    if (colon == text.size()) break;
+    start = colon + 1;
+  }
+  return fields;
 }
 
 }  // namespace terramesh::cli

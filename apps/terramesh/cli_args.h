@@ -57,4 +57,10 @@ class ArgParser {
   bool help_ = false;
 };
 
+/// Splits `text` at ':' into at most `max_fields` non-negative integers, e.g. a frame range "A:B";
+/// an empty field (as in "A:") is nullopt, for the caller to accept or refuse.
+/// @throw UsageError naming `option` and the expected `form` for anything else.
+std::vector<std::optional<std::size_t>> parseColonIntegers(const std::string& text, const std::string& option,
+                                                          const std::string& form, std::size_t max_fields);
+
 }  // namespace terramesh::cli

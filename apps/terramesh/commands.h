@@ -15,5 +15,6 @@ inline constexpr int kExitBadInput = 2;    ///< usage error or unreadable/invali
 int runMesh(const std::vector<std::string>& args);
 int runGenerate(const std::vector<std::string>& args);
 int runBench(const std::vector<std::string>& args);
+int runEval(const std::vector<std::string>& args);
 
 }  // namespace terramesh::cli

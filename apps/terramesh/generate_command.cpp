@@ -54,17 +54,12 @@ void declareOptions(ArgParser& parser) {
 
 /// Parses "A:B" or "A:" into a half-open frame range.
 std::pair<std::size_t, std::size_t> parseFrameRange(const std::string& text) {
-  const auto colon = text.find(':');
-  auto number = [&](const std::string& part) {
-    if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos) {
-      throw UsageError("generate: --frames expects A:B with non-negative integers, got \"" + text + "\"");
-    }
-    return static_cast<std::size_t>(std::stoull(part));
-  };
-  if (colon == std::string::npos) number("");
-  const std::size_t first = number(text.substr(0, colon));
-  const std::string rest = text.substr(colon + 1);
-  const std::size_t last = rest.empty() ? static_cast<std::size_t>(-1) : number(rest);
+  const auto fields = parseColonIntegers(text, "generate: --frames", "A:B", 2);
+  if (fields.size() != 2 || !fields[0]) {
+    throw UsageError("generate: --frames expects A:B with non-negative integers, got \"" + text + "\"");
+  }
+  const std::size_t first = *fields[0];
+  const std::size_t last = fields[1].value_or(static_cast<std::size_t>(-1));
   if (last <= first) throw UsageError("generate: --frames A:B needs A < B, got \"" + text + "\"");
   return {first, last};
 }

@@ -7,24 +7,13 @@ namespace {
 
 /// "A", "A:B" or "A:B:STEP" into the KITTI frame range.
 void parseFrames(const std::string& text, datasets::KittiOdometryOptions& kitti) {
-  std::vector<std::size_t> numbers;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t colon = text.find(':', start);
-    const std::string part = text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
-    char* end = nullptr;
-    const unsigned long long value = std::strtoull(part.c_str(), &end, 10);
-    if (part.empty() || *end != '\0') {
-      throw UsageError("--frames expects FIRST[:LAST[:STEP]] with non-negative integers, got \"" + text + "\"");
-    }
-    numbers.push_back(static_cast<std::size_t>(value));
-    if (colon == std::string::npos) break;
-    start = colon + 1;
+  const auto fields = parseColonIntegers(text, "--frames", "FIRST[:LAST[:STEP]]", 3);
+  for (const auto& field : fields) {
+    if (!field) throw UsageError("--frames expects FIRST[:LAST[:STEP]] with no empty field, got \"" + text + "\"");
   }
-  if (numbers.size() > 3) throw UsageError("--frames expects FIRST[:LAST[:STEP]], got \"" + text + "\"");
-  kitti.first_frame = numbers[0];
-  kitti.last_frame = numbers.size() > 1 ? numbers[1] : std::numeric_limits<std::size_t>::max();
-  if (numbers.size() > 2) kitti.frame_step = numbers[2];
+  kitti.first_frame = *fields[0];
+  kitti.last_frame = fields.size() > 1 ? *fields[1] : std::numeric_limits<std::size_t>::max();
+  if (fields.size() > 2) kitti.frame_step = *fields[2];
 }
 
 }  // namespace

@@ -20,6 +20,8 @@ struct Command {
 const Command kCommands[] = {
     {"mesh", "incremental manifold mesh from a SLAM stream", terramesh::cli::runMesh},
     {"bench", "run modes on one stream; print the paper's Tables II and IV", terramesh::cli::runBench},
+    {"eval", "mesh accuracy against a ground-truth mesh or KITTI LiDAR (depth, accuracy, completeness)",
+     terramesh::cli::runEval},
     {"generate", "synthetic SLAM stream with ground truth (street, offroad, garage)", terramesh::cli::runGenerate},
 };
 

@@ -1,5 +1,6 @@
 #include "mesher_options.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace terramesh::cli {
@@ -17,8 +18,44 @@ void declareMesherOptions(ArgParser& parser) {
       .option("--steiner-step-m", "L", "spacing of the Steiner grid", "10")
       .option("--free-threshold", "T", "a cell is free space when its weight exceeds this "
               "(default 20; 0 in litvinov13)")
-      .option("--move-threshold-m", "M", "moves of a point up to this are ignored", "0");
+      .option("--move-threshold-m", "M", "moves of a point up to this are ignored", "0")
+      .option("--enclosing-radius-cells", "N",
+              "proposed: the enclosing set spans the Steiner cells within N cells of a changed point", "2")
+      .option("--camera-enclosing-radius-cells", "N",
+              "proposed: and those within N cells of the update's cameras (0: off, as in the paper; "
+              "2 carves more accurately near the camera at some cost, see docs/accuracy.md)", "0")
+      .option("--disable", "LIST",
+              "ablation: comma-separated techniques to switch off: incremental-steiner-grid, "
+              "local-enclosing-set, boundary-hash, next-cell-cache, ray-scheduler");
 }
+
+namespace {
+
+/// Switches off the techniques named in `list` (comma-separated).
+void disableTechniques(const std::string& list, mesher::MesherConfig& config) {
+  const std::pair<const char*, bool mesher::MesherConfig::*> switches[] = {
+      {"incremental-steiner-grid", &mesher::MesherConfig::incremental_steiner_grid},
+      {"local-enclosing-set", &mesher::MesherConfig::local_enclosing_set},
+      {"boundary-hash", &mesher::MesherConfig::boundary_hash},
+      {"next-cell-cache", &mesher::MesherConfig::next_cell_cache},
+      {"ray-scheduler", &mesher::MesherConfig::ray_scheduler}};
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, comma - start);
+    bool known = false;
+    for (const auto& [technique, member] : switches) {
+      if (name == technique) {
+        config.*member = false;
+        known = true;
+      }
+    }
+    if (!known) throw UsageError("--disable: unknown technique \"" + name + "\"");
+    start = comma + 1;
+  }
+}
+
+}  // namespace
 
 mesher::AxisAlignedBox streamBounds(const datasets::SlamStream& stream) {
   mesher::AxisAlignedBox box;
@@ -56,6 +93,9 @@ mesher::MesherConfig mesherConfigFromArgs(const ArgParser& parser, mesher::Meshe
   config.steiner_step_m = parser.getDouble("--steiner-step-m");
   if (parser.has("--free-threshold")) config.free_threshold = parser.getDouble("--free-threshold");
   config.move_threshold_m = parser.getDouble("--move-threshold-m");
+  config.enclosing_radius_cells = static_cast<int>(parser.getInt("--enclosing-radius-cells"));
+  config.camera_enclosing_radius_cells = static_cast<int>(parser.getInt("--camera-enclosing-radius-cells"));
+  if (parser.has("--disable")) disableTechniques(parser.get("--disable"), config);
   if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = streamBounds(stream);
   const std::vector<std::string> problems = config.problems();
   if (!problems.empty()) {

@@ -57,6 +57,8 @@ std::vector<std::string> MesherConfig::problems() const {
   require(finite(steiner_step_m) && steiner_step_m > 0, "steiner_step_m must be positive");
   require(enclosing_radius_cells >= 1 && enclosing_radius_cells <= 8,
           "enclosing_radius_cells must be in [1, 8]");
+  require(camera_enclosing_radius_cells >= 0 && camera_enclosing_radius_cells <= 8,
+          "camera_enclosing_radius_cells must be in [0, 8]");
   require(steiner_margin_cells >= 1 && steiner_margin_cells <= 16,
           "steiner_margin_cells must be in [1, 16]");
   for (const auto& [value, name] : {std::pair{weight_crossed, "weight_crossed"},

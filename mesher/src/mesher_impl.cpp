@@ -357,9 +357,10 @@ std::optional<std::unordered_set<internal::GridKey, internal::GridKeyHash>> Mesh
     positions.push_back(state_.registry.point(index).latest_W);
   }
   for (std::uint32_t index : plan.remove) positions.push_back(state_.registry.point(index).inserted_W);
+  const bool changes = !positions.empty();
 
   if (!state_.config.local_enclosing_set) {
-    if (!positions.empty()) {
+    if (changes) {
       const std::vector<Eigen::Vector3d>& centres = plan.cameras.empty() ? positions : plan.cameras;
       const double radius =
           state_.config.maxCameraDistanceUnits() + std::sqrt(3.0) * state_.grid.step();
@@ -368,6 +369,9 @@ std::optional<std::unordered_set<internal::GridKey, internal::GridKeyHash>> Mesh
     return std::nullopt;
   }
   auto keys = shrinker_.enclosingKeys(positions, state_.config.enclosing_radius_cells);
+  if (changes && state_.config.camera_enclosing_radius_cells > 0) {
+    keys.merge(shrinker_.enclosingKeys(plan.cameras, state_.config.camera_enclosing_radius_cells));
+  }
   if (!keys.empty()) shrinker_.shrinkInKeys(keys, stats);
   return keys;
 }

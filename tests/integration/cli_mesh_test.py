@@ -1,4 +1,4 @@
-"""End-to-end tests of `terramesh mesh`: real KITTI 00 data through the independent mesh checker,
+"""End-to-end tests of `terramesh mesh` and `terramesh eval`: real KITTI 00 data through the independent mesh checker,
 every mode, every output option, and bad input (exit code 2, one line naming the file, no output).
 
 Run by ctest with: python3 -m unittest cli_mesh_test (TERRAMESH_BIN and TERRAMESH_SHARED_DIR set).
@@ -39,6 +39,16 @@ class TempDirCase(unittest.TestCase):
 
     def out(self, name="out"):
         return os.path.join(self.dir, name)
+
+    def assert_cli_rejected(self, args, output, *fragments):
+        """Exit code 2, one stderr line holding every fragment, and nothing written at `output`."""
+        result = run(*args)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        lines = result.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, result.stderr)
+        for fragment in fragments:
+            self.assertIn(fragment, lines[0])
+        self.assertFalse(os.path.exists(output), "no output may be written for bad input")
 
 
 class KittiMeshTest(TempDirCase):
@@ -148,11 +158,115 @@ class SyntheticStreamTest(TempDirCase):
                 meshes.append(f.read())
         self.assertEqual(meshes[0], meshes[1])
 
+    def test_ablation_switches_and_camera_enclosing_keep_the_invariants(self):
+        stream = self.generate("garage", "--length-m", "40")
+        _, default_rows = self.assert_meshes(stream)
+        for options in (["--camera-enclosing-radius-cells", "2"],
+                        ["--disable", "incremental-steiner-grid,next-cell-cache,ray-scheduler"]):
+            with self.subTest(options=options):
+                report, rows = self.assert_meshes(stream, *options)
+                self.assertGreater(report["faces"], 500)
+                # The options are in effect: the enclosing sets (or the grid) differ from the default.
+                self.assertNotEqual([(r["enclosing_cells"], r["steiner_points"]) for r in rows],
+                                    [(r["enclosing_cells"], r["steiner_points"]) for r in default_rows])
+
     def test_every_mode_on_a_synthetic_street(self):
         stream = self.generate("street", "--length-m", "60")
         for mode in ("litvinov13", "romanoni15"):
             with self.subTest(mode=mode):
                 self.assert_meshes(stream, "--mode", mode)
+
+
+def read_report(path):
+    """An eval report: one `name value` pair per line (values after the first field kept as text)."""
+    values = {}
+    with open(path) as f:
+        for line in f:
+            name, _, value = line.strip().partition(" ")
+            values[name] = value
+    return values
+
+
+class EvalTest(TempDirCase):
+    """`terramesh eval` on real and synthetic data, with known-good and deliberately wrong inputs."""
+
+    LIDAR = os.path.join(SHARED, "data", "kitti00_lidar")
+    POSES = os.path.join(SHARED, "data", "kitti_poses", "00.txt")
+
+    def eval_kitti(self, mesh, sim3, name):
+        report = self.out(name + ".txt")
+        result = run("eval", mesh, "--gt-lidar", self.LIDAR, "--poses", self.POSES, "--frames", "1:10",
+                     "--sim3", sim3, "--samples", "20000", "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return read_report(report)
+
+    def test_kitti_mesh_against_the_lidar_and_a_misaligned_copy(self):
+        out = self.out("kitti")
+        self.assertEqual(run("mesh", KITTI, "-o", out, "--metres-per-unit", KITTI_SCALE, "--quiet").returncode, 0)
+        mesh = os.path.join(out, "mesh.ply")
+        good = self.eval_kitti(mesh, os.path.join(self.LIDAR, "piazza_sim3_to_gt_icp.txt"), "good")
+        self.assertEqual(int(good["truth_scans"]), 10)
+        self.assertGreater(int(good["depth_truth_rays"]), 100000)
+        self.assertGreater(float(good["depth_coverage_within_0.50m"]), 0.2)
+        self.assertLess(float(good["accuracy_median_m"]), 0.5)
+        self.assertLess(float(good["completeness_median_m"]), 0.5)
+        # The same similarity lifted by 1 m (KITTI's y points down): every measure must get clearly worse.
+        shifted = self.out("shifted_sim3.txt")
+        with open(os.path.join(self.LIDAR, "piazza_sim3_to_gt_icp.txt")) as src, open(shifted, "w") as dst:
+            for line in src:
+                if line.startswith("t "):
+                    t = [float(x) for x in line.split()[1:]]
+                    line = "t %r %r %r\n" % (t[0], t[1] - 1.0, t[2])
+                dst.write(line)
+        bad = self.eval_kitti(mesh, shifted, "bad")
+        self.assertLess(float(bad["depth_coverage_within_0.50m"]),
+                        0.5 * float(good["depth_coverage_within_0.50m"]))
+        self.assertGreater(float(bad["accuracy_median_m"]), 2 * float(good["accuracy_median_m"]))
+
+    def test_synthetic_ground_truth_scores_perfectly_and_the_mesh_well(self):
+        data = self.out("garage")
+        self.assertEqual(run("generate", "garage", "-o", data, "--quiet").returncode, 0)
+        truth = os.path.join(data, "ground_truth.ply")
+        views = os.path.join(data, "trajectory.txt")
+        report = self.out("self.txt")
+        result = run("eval", truth, "--gt-mesh", truth, "--views", views, "--view-step", "5",
+                     "--samples", "20000", "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        perfect = read_report(report)
+        self.assertEqual(perfect["depth_rays_hitting_mesh"], perfect["depth_truth_rays"])
+        self.assertLess(float(perfect["depth_mean_abs_error_m"]), 1e-3)
+        self.assertEqual(float(perfect["depth_coverage_within_0.50m"]), 1.0)
+        self.assertLess(float(perfect["accuracy_p90_m"]), 1e-3)
+        mesh_out = self.out("mesh")
+        self.assertEqual(run("mesh", os.path.join(data, "stream.tmstream"), "-o", mesh_out, "--quiet").returncode, 0)
+        result = run("eval", os.path.join(mesh_out, "mesh.ply"), "--gt-mesh", truth, "--views", views,
+                     "--view-step", "5", "--samples", "20000", "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        ours = read_report(report)
+        self.assertGreater(int(ours["mesh_steiner_vertices"]), 0)
+        self.assertGreater(float(ours["depth_coverage_within_0.50m"]), 0.3)
+        self.assertLess(float(ours["accuracy_median_m"]), 0.3)
+
+    def assert_eval_rejected(self, args, *fragments):
+        report = self.out("report.txt")
+        self.assert_cli_rejected(["eval", *args, "--report", report], report, *fragments)
+
+    def test_bad_input(self):
+        missing = os.path.join(self.dir, "absent.ply")
+        self.assert_eval_rejected([missing, "--gt-mesh", missing, "--views", self.POSES], missing)
+        sim3 = os.path.join(self.LIDAR, "piazza_sim3_to_gt_icp.txt")
+        self.assert_eval_rejected([missing, "--gt-lidar", self.LIDAR], "--poses")
+        self.assert_eval_rejected([missing, "--gt-lidar", self.LIDAR, "--gt-mesh", missing], "exactly one")
+        bad_sim3 = os.path.join(self.dir, "bad_sim3.txt")
+        with open(bad_sim3, "w") as f:
+            f.write("s 1\nR 1 0 0 0 1 0 0 0 1\n")
+        out = self.out("kitti")
+        self.assertEqual(run("mesh", KITTI, "-o", out, "--metres-per-unit", KITTI_SCALE, "--quiet").returncode, 0)
+        mesh = os.path.join(out, "mesh.ply")
+        self.assert_eval_rejected([mesh, "--gt-lidar", self.LIDAR, "--poses", self.POSES, "--sim3", bad_sim3],
+                                  bad_sim3, "missing t")
+        self.assert_eval_rejected([mesh, "--gt-lidar", self.LIDAR, "--poses", self.POSES, "--sim3", sim3,
+                                   "--frames", "200:210"], "no scan for frames 200 to 210")
 
 
 class BadInputTest(TempDirCase):
@@ -164,13 +278,7 @@ class BadInputTest(TempDirCase):
 
     def assert_rejected(self, args, *expected_fragments):
         out = self.out()
-        result = run("mesh", *args, "-o", out)
-        self.assertEqual(result.returncode, 2, result.stderr)
-        lines = result.stderr.strip().splitlines()
-        self.assertEqual(len(lines), 1, result.stderr)
-        for fragment in expected_fragments:
-            self.assertIn(fragment, lines[0])
-        self.assertFalse(os.path.exists(out), "no output may be written for bad input")
+        self.assert_cli_rejected(["mesh", *args, "-o", out], out, *expected_fragments)
 
     def test_missing_file(self):
         path = os.path.join(self.dir, "absent.json")
@@ -197,6 +305,8 @@ class BadInputTest(TempDirCase):
     def test_bad_option_value(self):
         self.assert_rejected([KITTI, "--mode", "fastest"], "--mode")
         self.assert_rejected([KITTI, "--steiner-step-m", "-3"], "steiner_step_m")
+        self.assert_rejected([KITTI, "--camera-enclosing-radius-cells", "9"], "camera_enclosing_radius_cells")
+        self.assert_rejected([KITTI, "--disable", "boundary-hash,warp-drive"], "--disable", "warp-drive")
 
     def test_truncated_stream_file(self):
         path = self.write("cut.tmstream", "terramesh_stream 1\nkeyframe 0 0 0 0 1 0 0 0 3\n1 0 0 5\n")

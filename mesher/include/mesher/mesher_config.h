@@ -41,6 +41,11 @@ struct MesherConfig {
   double steiner_step_m = 10.0;
   /// Enclosing set: cells with a vertex within this many Steiner cells of a changed point.
   int enclosing_radius_cells = 2;
+  /// When an update inserts, moves or removes points, also enclose the Steiner cells within this
+  /// many cells of its cameras (0: off, the paper's enclosing set). Rays from the camera change
+  /// weights along their whole length; re-growing near the camera too lets those cells be carved
+  /// in weight order. Costs time; see docs/accuracy.md for what it buys.
+  int camera_enclosing_radius_cells = 0;
   /// The grid is kept at least this many cells beyond every point and camera.
   int steiner_margin_cells = 3;
 

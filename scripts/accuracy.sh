@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Reproduces every number of docs/accuracy.md: meshes the real KITTI 00 ORB-SLAM export and three
+# synthetic scenes in the three modes, evaluates them (and the authors' reference meshes) against
+# ground truth with `terramesh eval`, and prints the markdown tables. Expects a Release build in
+# build/ (scripts/build.sh) and ../shared/ beside the repository. Writes under out/accuracy/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+terramesh=build/apps/terramesh/terramesh
+shared=${TERRAMESH_SHARED_DIR:-../shared}
+out=out/accuracy
+# Variants meshed: a name and the `terramesh mesh` options that make it.
+variants=("proposed|" "proposed-camera2|--camera-enclosing-radius-cells 2"
+          "romanoni15|--mode romanoni15" "litvinov13|--mode litvinov13")
+mkdir -p "$out"
+
+# One markdown row from an eval report: name, then the metrics of the tables.
+row() {
+  awk -v name="$1" '
+    { v[$1] = $2 }
+    END {
+      printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name,
+        v["depth_mean_abs_error_m"], v["depth_median_abs_error_m"], v["depth_mean_signed_error_m"],
+        v["depth_coverage_within_0.50m"], v["accuracy_median_m"], v["accuracy_within_0.50m"],
+        v["completeness_median_m"], v["completeness_within_0.50m"]
+    }' "$2"
+}
+header() {
+  echo "| mesh | depth MAE (m) | depth median (m) | depth signed mean (m) | depth coverage <= 0.5 m | accuracy median (m) | accuracy <= 0.5 m | completeness median (m) | completeness <= 0.5 m |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+}
+
+# KITTI 00: the ORB-SLAM map into the LiDAR frame by the ICP similarity, against scans 1-10.
+lidar=$shared/data/kitti00_lidar
+kitti_eval=(--gt-lidar "$lidar" --poses "$shared/data/kitti_poses/00.txt" --frames 1:10
+            --sim3 "$lidar/piazza_sim3_to_gt_icp.txt")
+echo "## KITTI 00 (ORB-SLAM, 17 keyframes) against the Velodyne, frames 1-10"
+header
+for variant in "${variants[@]}"; do
+  name=${variant%%|*}
+  read -r -a options <<< "${variant#*|}"
+  "$terramesh" mesh "$shared/data/kitti00_orbslam/slam_data_version0.1_KITTI00_50frames.json" \
+    -o "$out/kitti00_$name" "${options[@]}" --metres-per-unit 16.589 --quiet
+  "$terramesh" eval "$out/kitti00_$name/mesh.ply" "${kitti_eval[@]}" --report "$out/kitti00_$name.txt" --quiet
+  row "terramesh $name" "$out/kitti00_$name.txt"
+done
+for reference in "$shared"/data/kitti00_orbslam/reference_meshes/*.off; do
+  name=$(basename "$reference" .off)
+  "$terramesh" eval "$reference" --steiner-grid-step 40 "${kitti_eval[@]}" --report "$out/$name.txt" --quiet
+  row "authors: $name" "$out/$name.txt"
+done
+
+# Synthetic scenes against their ground-truth meshes, depth rendered at every keyframe.
+for scene in street offroad garage; do
+  echo
+  echo "## Synthetic $scene (seed 1)"
+  header
+  "$terramesh" generate "$scene" -o "$out/$scene" --seed 1 --quiet
+  for variant in "${variants[@]}"; do
+    name=${variant%%|*}
+    read -r -a options <<< "${variant#*|}"
+    "$terramesh" mesh "$out/$scene/stream.tmstream" -o "$out/${scene}_$name" "${options[@]}" --quiet
+    "$terramesh" eval "$out/${scene}_$name/mesh.ply" --gt-mesh "$out/$scene/ground_truth.ply" \
+      --views "$out/$scene/trajectory.txt" --report "$out/${scene}_$name.txt" --quiet
+    row "terramesh $name" "$out/${scene}_$name.txt"
+  done
+done
+
+# Which technique of the proposed mode changes the result (the next-cell cache, the scheduler and
+# the boundary hash only change the speed): the street again, with techniques switched off.
+echo
+echo "## Ablation on the synthetic street: proposed with techniques switched off"
+header
+for disable in "" incremental-steiner-grid local-enclosing-set incremental-steiner-grid,local-enclosing-set; do
+  name=${disable:-none}
+  "$terramesh" mesh "$out/street/stream.tmstream" -o "$out/street_without_$name" --quiet ${disable:+--disable "$disable"}
+  "$terramesh" eval "$out/street_without_$name/mesh.ply" --gt-mesh "$out/street/ground_truth.ply" \
+    --views "$out/street/trajectory.txt" --report "$out/street_without_$name.txt" --quiet
+  row "proposed, switched off: $name" "$out/street_without_$name.txt"
+done
