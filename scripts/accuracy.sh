@@ -70,7 +70,7 @@ done
 echo
 echo "## Ablation on the synthetic street: proposed with techniques switched off"
 header
-for disable in "" incremental-steiner-grid local-enclosing-set incremental-steiner-grid,local-enclosing-set; do
+for disable in "" edge-pass incremental-steiner-grid local-enclosing-set incremental-steiner-grid,local-enclosing-set,edge-pass; do
   name=${disable:-none}
   "$terramesh" mesh "$out/street/stream.tmstream" -o "$out/street_without_$name" --quiet ${disable:+--disable "$disable"}
   "$terramesh" eval "$out/street_without_$name/mesh.ply" --gt-mesh "$out/street/ground_truth.ply" \

@@ -26,7 +26,7 @@ void declareMesherOptions(ArgParser& parser) {
               "2 carves more accurately near the camera at some cost, see docs/accuracy.md)", "0")
       .option("--disable", "LIST",
               "ablation: comma-separated techniques to switch off: incremental-steiner-grid, "
-              "local-enclosing-set, boundary-hash, next-cell-cache, ray-scheduler");
+              "local-enclosing-set, boundary-hash, next-cell-cache, ray-scheduler, edge-pass");
 }
 
 namespace {
@@ -38,7 +38,8 @@ void disableTechniques(const std::string& list, mesher::MesherConfig& config) {
       {"local-enclosing-set", &mesher::MesherConfig::local_enclosing_set},
       {"boundary-hash", &mesher::MesherConfig::boundary_hash},
       {"next-cell-cache", &mesher::MesherConfig::next_cell_cache},
-      {"ray-scheduler", &mesher::MesherConfig::ray_scheduler}};
+      {"ray-scheduler", &mesher::MesherConfig::ray_scheduler},
+      {"edge-pass", &mesher::MesherConfig::edge_growing_pass}};
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t comma = std::min(list.find(',', start), list.size());

@@ -1,5 +1,6 @@
 #include "manifold_growing.h"
 
+#include <cmath>
 #include <unordered_set>
 
 namespace terramesh::mesher::internal {
@@ -34,6 +35,7 @@ void Grower::scanVertex(const VertexHandle& v) {
 void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, UpdateStats& stats) {
   std::vector<StampedCell> candidates = state_.candidates.take();
   touched_vertices_.clear();
+  final_refused_.clear();
 
   // Bootstrap: an empty O starts from the freest candidate.
   if (state_.outside.size() == 0) {
@@ -65,7 +67,41 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
     state_.hash.forEachVertex([this](const VertexHandle& v) { scanVertex(v); });
   }
   drainQueue(stats);
+  if (state_.config.edge_growing_pass) edgePass(stats);
   genusPass(stats);
+}
+
+void Grower::edgePass(UpdateStats& stats) {
+  std::vector<CellHandle> refused;
+  refused.swap(final_refused_);
+  std::vector<CellHandle> ring;
+  const auto min_weight =
+      static_cast<std::int32_t>(std::lround(state_.config.edge_pass_min_weight * WeightField::kFixedPointScale));
+  for (std::size_t r = 0; r < refused.size(); ++r) {
+    const CellHandle cell = refused[r];
+    if (cell->info().outside()) continue;
+    if (cell->info().weight < min_weight) continue;
+    for (int i = 0; i < 4 && !cell->info().outside(); ++i) {
+      for (int j = i + 1; j < 4 && !cell->info().outside(); ++j) {
+        ring.clear();
+        const auto start = state_.tri.incident_cells(cell, i, j);
+        auto c = start;
+        do {
+          const CellHandle h = c;
+          if (!h->info().outside() && !state_.tri.is_infinite(h) && state_.weights.isFree(h)) ring.push_back(h);
+        } while (++c != start);
+        if (ring.size() < 2 || !state_.outside.canAddAll(ring)) continue;
+        for (const CellHandle& h : ring) {
+          state_.outside.add(h);
+          ++stats.cells_grown;
+        }
+        for (const CellHandle& h : ring) pushFreeNeighbours(h);
+        drainQueue(stats);
+        refused.insert(refused.end(), final_refused_.begin(), final_refused_.end());
+        final_refused_.clear();
+      }
+    }
+  }
 }
 
 void Grower::drainQueue(UpdateStats& stats) {
@@ -108,6 +144,7 @@ void Grower::drainQueue(UpdateStats& stats) {
   }
   // Cells still refused are where fronts of O meet or pinch: the vertices of their faces shared
   // with O are the candidates of the per-vertex pass.
+  final_refused_.insert(final_refused_.end(), refused.begin(), refused.end());
   for (const CellHandle& cell : refused) {
     for (int j = 0; j < 4; ++j) {
       if (!cell->neighbor(j)->info().outside()) continue;

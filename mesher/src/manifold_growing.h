@@ -11,8 +11,9 @@
 namespace terramesh::mesher::internal {
 
 /// Manifold growing: carves free cells into O in order of decreasing weight, adding a cell only if
-/// the boundary stays a 2-manifold, then the per-vertex pass that adds all cells around a boundary
-/// vertex at once (which lets the surface change genus).
+/// the boundary stays a 2-manifold; then (proposed mode) the edge pass, which adds all free cells
+/// around an edge of a refused cell at once; then the per-vertex pass that adds all cells around a
+/// boundary vertex at once (which lets the surface change genus).
 class Grower {
  public:
   explicit Grower(MapState& state) : state_(state) {}
@@ -37,12 +38,17 @@ class Grower {
   void pushFreeNeighbours(const CellHandle& cell);
   void drainQueue(UpdateStats& stats);
   void genusPass(UpdateStats& stats);
+  /// For each cell still refused, tries adding at once all free non-O cells around one of its
+  /// edges; growing resumes after each success.
+  void edgePass(UpdateStats& stats);
   void scanVertex(const VertexHandle& v);
 
   MapState& state_;
   std::priority_queue<QueueEntry> queue_;
   std::vector<VertexHandle> touched_vertices_;
   std::vector<CellHandle> scratch_;
+  /// Cells refused at the end of the drains of this grow, for the edge pass.
+  std::vector<CellHandle> final_refused_;
 };
 
 }  // namespace terramesh::mesher::internal

@@ -34,6 +34,7 @@ MesherConfig MesherConfig::forMode(MesherMode mode) {
   config.boundary_hash = false;
   config.next_cell_cache = false;
   config.ray_scheduler = false;
+  config.edge_growing_pass = false;
   if (mode == MesherMode::kLitvinov13) {
     // Litvinov & Lhuillier 2013: a cell is free space once any ray crosses it.
     config.weight_crossed = 1.0;
@@ -57,6 +58,8 @@ std::vector<std::string> MesherConfig::problems() const {
   require(finite(steiner_step_m) && steiner_step_m > 0, "steiner_step_m must be positive");
   require(enclosing_radius_cells >= 1 && enclosing_radius_cells <= 8,
           "enclosing_radius_cells must be in [1, 8]");
+  require(std::isfinite(edge_pass_min_weight) && edge_pass_min_weight >= 0 && edge_pass_min_weight <= 1e6,
+          "edge_pass_min_weight must be in [0, 1e6]");
   require(camera_enclosing_radius_cells >= 0 && camera_enclosing_radius_cells <= 8,
           "camera_enclosing_radius_cells must be in [0, 8]");
   require(steiner_margin_cells >= 1 && steiner_margin_cells <= 16,

@@ -69,6 +69,12 @@ struct MesherConfig {
   bool boundary_hash = true;             ///< boundary vertices hashed by Steiner cell
   bool next_cell_cache = true;           ///< next-tetrahedron caching in the ray walk
   bool ray_scheduler = true;             ///< batch and de-duplicate trace/untrace/retrace
+  /// Ours, not the paper's: before the per-vertex pass, for each cell growing refused, try adding
+  /// all free cells around one of its edges at once (docs/algorithms.md, docs/accuracy.md).
+  bool edge_growing_pass = true;
+  /// The edge pass only tries refused cells at least this heavy (weight units): cells that many
+  /// rays cross, which matter most and are few (200: about 20 crossings at the default weights).
+  double edge_pass_min_weight = 200.0;
   /// Region covered by the fixed Steiner grid when incremental_steiner_grid is false.
   std::optional<AxisAlignedBox> fixed_grid_bounds_W;
 
