@@ -176,8 +176,8 @@ int runEval(const std::vector<std::string>& args) {
     datasets::LidarTruthOptions options;
     options.poses_path = parser.get("--poses");
     std::tie(options.first_frame, options.last_frame) = parseInclusiveRange(parser.get("--frames"));
-    const datasets::LidarTruth truth = datasets::readLidarTruth(parser.get("--gt-lidar"), options, camera, config);
-    truth_rays = truth.rays;
+    datasets::LidarTruth truth = datasets::readLidarTruth(parser.get("--gt-lidar"), options, camera, config);
+    truth_rays = std::move(truth.rays);
     std::vector<Eigen::Vector3d> covered_samples;
     for (const Eigen::Vector3d& p : mesh_samples) {
       if (truth.covers(p, config.max_depth_m, &camera)) covered_samples.push_back(p);

@@ -144,7 +144,7 @@ void Grower::drainQueue(UpdateStats& stats) {
   }
   // Cells still refused are where fronts of O meet or pinch: the vertices of their faces shared
   // with O are the candidates of the per-vertex pass.
-  final_refused_.insert(final_refused_.end(), refused.begin(), refused.end());
+  if (state_.config.edge_growing_pass) final_refused_.insert(final_refused_.end(), refused.begin(), refused.end());
   for (const CellHandle& cell : refused) {
     for (int j = 0; j < 4; ++j) {
       if (!cell->neighbor(j)->info().outside()) continue;
