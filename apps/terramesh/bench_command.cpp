@@ -1,5 +1,6 @@
 // terramesh bench STREAM -o DIR: runs several modes on the same stream and reports the paper's
 // Table II and Table IV, latency percentiles, growth over the run and memory, in one invocation.
+// Figures are drawn from its CSVs by scripts/figures/bench_figures.py, whose command it prints.
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -34,14 +35,13 @@ std::vector<mesher::MesherMode> parseModes(const std::string& list) {
 int runBench(const std::vector<std::string>& args) {
   ArgParser parser("bench");
   parser.positional("STREAM", "SLAM stream to run (any format terramesh mesh reads)")
-      .option("--output", "DIR", "where CSVs, plots and the report go")
+      .option("--output", "DIR", "where the CSVs and the report go")
       .alias("-o", "--output")
       .option("--modes", "LIST", "comma-separated modes; the first is compared with the others",
               "proposed,romanoni15,litvinov13")
       .option("--camera-frames", "N", "camera frames the stream covers, for frame rates", "0")
       .option("--camera-rate-hz", "HZ", "camera frame rate, for the real-time factor", "10")
-      .option("--max-keyframes", "N", "stop each run after N keyframes (0: all)", "0")
-      .flag("--no-plots", "skip the PNG plots");
+      .option("--max-keyframes", "N", "stop each run after N keyframes (0: all)", "0");
   declareInputOptions(parser);
   declareMesherOptions(parser);
   parser.parse(args);
@@ -79,11 +79,8 @@ int runBench(const std::vector<std::string>& args) {
   }
   std::ostringstream report;
   printBenchReport(report, context, runs);
-  if (!parser.flagSet("--no-plots")) {
-    report << "\nplots:";
-    for (const auto& plot : writeBenchPlots(output / "plots", context, runs)) report << ' ' << plot.string();
-    report << '\n';
-  }
+  writeBenchIndex(output, context, runs);
+  report << "\nfigures (from the terramesh source tree): " << benchFiguresCommand(output) << '\n';
   writeFileAtomically(output / "report.txt", report.str());
   std::cout << report.str();
   return kExitOk;

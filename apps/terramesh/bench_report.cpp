@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <sstream>
+
+#include "common/atomic_file.h"
 
 namespace terramesh::cli {
 namespace {
@@ -51,6 +54,25 @@ double growthRatio(const std::vector<double>& values) {
   const double first = std::accumulate(values.begin(), values.begin() + static_cast<long>(tenth), 0.0);
   const double last = std::accumulate(values.end() - static_cast<long>(tenth), values.end(), 0.0);
   return first > 0 ? last / first : 0.0;
+}
+
+/// A CSV field, quoted (RFC 4180) if it holds a comma, a quote or a line break.
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + '"';
+}
+
+/// Quotes `text` for a POSIX shell if it holds anything but safe characters.
+std::string shellWord(const std::string& text) {
+  const bool safe = !text.empty() && text.find_first_not_of(
+                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                         "0123456789_-./+:=@%,") == std::string::npos;
+  if (safe) return text;
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + '\'';
 }
 
 void line(std::ostream& out, const char* format, ...) __attribute__((format(printf, 2, 3)));
@@ -148,6 +170,23 @@ void printBenchReport(std::ostream& out, const BenchContext& context,
   }
   out << "(B/ray: ray records, cell paths and per-cell ray lists; B/point: triangulation, point "
          "records and indices; peak RSS: growth of the process while meshing)\n";
+}
+
+std::filesystem::path writeBenchIndex(const std::filesystem::path& dir, const BenchContext& context,
+                                      const std::vector<BenchRun>& runs) {
+  std::ostringstream csv;
+  csv << "mode,stream,keyframes_csv,summary\n";
+  for (const BenchRun& run : runs) {
+    csv << csvField(run.mode) << ',' << csvField(context.stream_name) << ','
+        << csvField(run.mode + "/keyframes.csv") << ',' << csvField(run.mode + "/summary.txt") << '\n';
+  }
+  const std::filesystem::path path = dir / "runs.csv";
+  writeFileAtomically(path, csv.str());
+  return path;
+}
+
+std::string benchFiguresCommand(const std::filesystem::path& dir) {
+  return "scripts/figures/bench_figures.py " + shellWord(dir.string());
 }
 
 }  // namespace terramesh::cli

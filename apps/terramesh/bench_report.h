@@ -23,10 +23,14 @@ struct BenchContext {
 void printBenchReport(std::ostream& out, const BenchContext& context,
                       const std::vector<BenchRun>& runs);
 
-/// Writes the per-keyframe timing plots (like the paper's Figures 5 and 6) into `dir`: total time
-/// per keyframe for every mode, and per step for each mode. Returns the files written.
-std::vector<std::filesystem::path> writeBenchPlots(const std::filesystem::path& dir,
-                                                   const BenchContext& context,
-                                                   const std::vector<BenchRun>& runs);
+/// Writes `dir/runs.csv`, the index of the runs for scripts/figures/bench_figures.py: header
+/// `mode,stream,keyframes_csv,summary`, one row per run in `runs` order, paths relative to `dir`
+/// (fields quoted as in RFC 4180 where needed). Written atomically. Returns the file's path.
+/// @throw std::runtime_error if the file cannot be written.
+std::filesystem::path writeBenchIndex(const std::filesystem::path& dir, const BenchContext& context,
+                                      const std::vector<BenchRun>& runs);
+
+/// The command line that draws the figures of a bench folder (like the paper's Figures 5 and 6).
+std::string benchFiguresCommand(const std::filesystem::path& dir);
 
 }  // namespace terramesh::cli

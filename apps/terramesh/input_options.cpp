@@ -21,6 +21,9 @@ void parseFrames(const std::string& text, datasets::KittiOdometryOptions& kitti)
 void declareInputOptions(ArgParser& parser) {
   parser
       .option("--input-format", "FMT", "how to read the input: " + datasets::streamFormatNames(), "auto")
+      .option("--image-list", "FILE",
+              "Bundler input: the image list (default: list_r000.out, list.txt... found beside "
+              "the .out file, else none: meshing needs no image names)")
       .option("--poses", "FILE", "KITTI input: cam0 poses (KITTI or TUM format; default: found beside the sequence)")
       .option("--frames", "A[:B[:S]]", "KITTI input: frames A to B (inclusive), every S-th")
       .option("--max-returns-per-scan", "N", "KITTI input: keep N returns per scan, a seeded uniform subset (0: all)", "0")
@@ -32,6 +35,7 @@ datasets::StreamReadOptions streamReadOptionsFromArgs(const ArgParser& parser) {
   const auto format = datasets::parseStreamFormat(parser.get("--input-format"));
   if (!format) throw UsageError("--input-format must be one of " + datasets::streamFormatNames());
   options.format = *format;
+  if (parser.has("--image-list")) options.bundler_image_list = parser.get("--image-list");
   datasets::KittiOdometryOptions& kitti = options.kitti;
   if (parser.has("--poses")) kitti.poses_path = parser.get("--poses");
   if (parser.has("--frames")) parseFrames(parser.get("--frames"), kitti);

@@ -6,7 +6,8 @@
 namespace terramesh::cli {
 
 /// Declares the options that say how to read the input stream (shared by `mesh` and `bench`):
-/// the format, and for KITTI LiDAR sequences the poses file, frame range and thinning.
+/// the format, Bundler's image list, and for KITTI LiDAR sequences the poses file, frame range
+/// and thinning.
 void declareInputOptions(ArgParser& parser);
 
 /// The read options from the parsed arguments.

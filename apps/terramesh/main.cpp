@@ -22,6 +22,14 @@ const Command kCommands[] = {
     {"bench", "run modes on one stream; print the paper's Tables II and IV", terramesh::cli::runBench},
     {"eval", "mesh accuracy against a ground-truth mesh or KITTI LiDAR (depth, accuracy, completeness)",
      terramesh::cli::runEval},
+    {"traverse", "traversability map of a finished mesh for a robot: PLY layers, Nav2 maps, GeoTIFF",
+     terramesh::cli::runTraverse},
+    {"traverse-eval", "traversability map against per-robot ground truth (precision, recall, F1) or the road under a path",
+     terramesh::cli::runTraverseEval},
+    {"view", "serve a run folder's web viewer on 127.0.0.1 (mesh layers, snapshots, timings, paths)",
+     terramesh::cli::runView},
+    {"plan", "drivable path on a traversability map (OMPL on the surface; exit 3 if unreachable)",
+     terramesh::cli::runPlan},
     {"generate", "synthetic SLAM stream with ground truth (street, offroad, garage)", terramesh::cli::runGenerate},
 };
 

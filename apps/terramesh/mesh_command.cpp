@@ -15,6 +15,8 @@
 #include "mesher_options.h"
 #include "progress_bar.h"
 #include "stats_table.h"
+#include "run_extras.h"
+#include "traversability_session.h"
 
 namespace terramesh::cli {
 namespace {
@@ -66,6 +68,7 @@ int runMesh(const std::vector<std::string>& args) {
       .flag("--quiet", "print nothing but errors");
   declareInputOptions(parser);
   declareMesherOptions(parser);
+  TraversabilitySession::declareOptions(parser);
   parser.parse(args);
   if (parser.helpRequested()) {
     std::cout << parser.usage();
@@ -86,6 +89,8 @@ int runMesh(const std::vector<std::string>& args) {
   const datasets::SlamStream stream = datasets::readAnyStream(input, read_options);
   const mesher::MesherConfig config = mesherConfigFromArgs(parser, *mode, stream);
   const std::filesystem::path output = parser.get("--output");
+  std::optional<TraversabilitySession> traversability =
+      TraversabilitySession::fromArgs(parser, stream, config.metres_per_unit, output);
   std::filesystem::create_directories(output);
   if (snapshot_every > 0) std::filesystem::create_directories(output / "snapshots");
 
@@ -110,6 +115,7 @@ int runMesh(const std::vector<std::string>& args) {
                                  report.summary());
       }
     }
+    if (traversability) traversability->afterEvent(mesher, i, kind == "keyframe");
     if (kind == "keyframe") {
       ++keyframes;
       if (snapshot_every > 0 && keyframes % static_cast<std::size_t>(snapshot_every) == 0) {
@@ -125,6 +131,7 @@ int runMesh(const std::vector<std::string>& args) {
   const std::filesystem::path mesh_path = output / ("mesh." + format);
   writeMesh(mesh_path, mesh);
   writeFileAtomically(output / "keyframes.csv", csv.str());
+  writeRunExtras(stream, output);
   const mesher::MeshTopology topology = mesher::analyzeTopology(mesh);
   std::ostringstream summary;
   summary << "input: " << input.string() << "\nmode: " << mesher::toString(config.mode)
@@ -132,6 +139,14 @@ int runMesh(const std::vector<std::string>& args) {
           << "\nevents: " << stream.events.size() << "\nmesh: " << mesh_path.string() << " ("
           << describeTopology(topology) << ")\n";
   printStepTotals(summary, totals, keyframes);
+  if (autoMaxDistance(parser, stream)) {
+    summary << "max_camera_distance_m: auto, " << kAutoMaxDistanceFactor << " x the "
+            << 100 * kAutoMaxDistanceQuantile << "th percentile of the camera-to-point distances\n";
+  }
+  printInputFilters(summary, totals, mesher.size(), config);
+  for (const std::string& warning : inputFilterWarnings(totals, mesher.size(), config)) {
+    if (!quiet) std::cerr << "terramesh: warning: " << warning << '\n';
+  }
   if (parser.flagSet("--drop-steiner")) {
     const mesher::TriangleMesh open = mesher::dropSteinerFaces(mesh);
     const std::filesystem::path open_path = output / ("mesh_open." + format);
@@ -142,6 +157,7 @@ int runMesh(const std::vector<std::string>& args) {
             << " boundary edges, " << open_topology.non_manifold_vertices
             << " non-manifold vertices)\n";
   }
+  if (traversability) traversability->finish(mesher, summary);
   writeFileAtomically(output / "summary.txt", summary.str());
   if (!quiet) std::cout << summary.str();
   return kExitOk;

@@ -13,8 +13,10 @@ void declareMesherOptions(ArgParser& parser) {
       .option("--min-views", "N",
               "keyframes that must see a point before it is inserted (default 2, or what the "
               "stream advises: 1 for LiDAR)")
-      .option("--max-distance-m", "D", "ignore observations farther than this from their camera",
-              "40")
+      .option("--max-distance-m", "D",
+              "ignore observations farther than D metres from their camera; auto: twice the 95th "
+              "percentile of the stream's camera-to-point distances (default for COLMAP, OpenMVG "
+              "and Bundler models without --metres-per-unit; else 40)")
       .option("--steiner-step-m", "L", "spacing of the Steiner grid", "10")
       .option("--free-threshold", "T", "a cell is free space when its weight exceeds this "
               "(default 20; 0 in litvinov13)")
@@ -79,6 +81,11 @@ mesher::AxisAlignedBox streamBounds(const datasets::SlamStream& stream) {
   return box;
 }
 
+bool autoMaxDistance(const ArgParser& parser, const datasets::SlamStream& stream) {
+  if (parser.has("--max-distance-m")) return parser.get("--max-distance-m") == "auto";
+  return stream.recommend_auto_max_distance && !parser.has("--metres-per-unit");
+}
+
 mesher::MesherConfig mesherConfigFromArgs(const ArgParser& parser, mesher::MesherMode mode,
                                           const datasets::SlamStream& stream) {
   mesher::MesherConfig config = mesher::MesherConfig::forMode(mode);
@@ -90,7 +97,16 @@ mesher::MesherConfig mesherConfigFromArgs(const ArgParser& parser, mesher::Meshe
   } else if (stream.recommended_min_views > 0) {
     config.min_views = stream.recommended_min_views;
   }
-  config.max_camera_distance_m = parser.getDouble("--max-distance-m");
+  if (autoMaxDistance(parser, stream)) {
+    const double distance_units =
+        datasets::observationDistanceQuantile(stream, kAutoMaxDistanceQuantile);
+    // No observation: nothing to filter, any positive distance will do.
+    if (distance_units > 0.0) {
+      config.max_camera_distance_m = kAutoMaxDistanceFactor * distance_units * config.metres_per_unit;
+    }
+  } else if (parser.has("--max-distance-m")) {
+    config.max_camera_distance_m = parser.getDouble("--max-distance-m");
+  }
   config.steiner_step_m = parser.getDouble("--steiner-step-m");
   if (parser.has("--free-threshold")) config.free_threshold = parser.getDouble("--free-threshold");
   config.move_threshold_m = parser.getDouble("--move-threshold-m");

@@ -1,5 +1,7 @@
 #include "datasets/bundler_reader.h"
 
+#include <algorithm>
+#include <string>
 #include <unordered_set>
 #include <vector>
 
@@ -66,11 +68,31 @@ std::vector<std::string> readImageList(const std::filesystem::path& path) {
 
 }  // namespace
 
-std::optional<std::filesystem::path> findBundlerList(const std::filesystem::path& bundle_path) {
+std::vector<std::filesystem::path> bundlerListCandidates(const std::filesystem::path& bundle_path) {
   const std::filesystem::path directory = bundle_path.parent_path();
-  for (const std::filesystem::path& candidate :
-       {directory / "list.txt", directory.parent_path() / "list.txt"}) {
-    if (std::filesystem::is_regular_file(candidate)) return candidate;
+  std::vector<std::filesystem::path> candidates;
+  auto add = [&candidates](const std::filesystem::path& candidate) {
+    if (std::find(candidates.begin(), candidates.end(), candidate) == candidates.end()) {
+      candidates.push_back(candidate);
+    }
+  };
+  std::string name = bundle_path.filename().string();
+  const std::size_t bundle = name.find("bundle");
+  if (bundle != std::string::npos) {
+    name.replace(bundle, 6, "list");
+    std::filesystem::path renamed = directory / name;
+    if (renamed != bundle_path) add(renamed);
+    add(renamed.replace_extension(".txt"));
+  }
+  add(directory / "list.txt");
+  add(directory.parent_path() / "list.txt");
+  return candidates;
+}
+
+std::optional<std::filesystem::path> findBundlerList(const std::filesystem::path& bundle_path) {
+  for (const std::filesystem::path& candidate : bundlerListCandidates(bundle_path)) {
+    std::error_code error;
+    if (std::filesystem::is_regular_file(candidate, error)) return candidate;
   }
   return std::nullopt;
 }
@@ -79,16 +101,7 @@ SlamStream readBundler(const std::filesystem::path& bundle_path,
                        const std::filesystem::path& list_path) {
   TextLineReader lines(bundle_path);
   std::filesystem::path list = list_path;
-  if (list.empty()) {
-    const auto found = findBundlerList(bundle_path);
-    if (!found) {
-      const std::filesystem::path directory = bundle_path.parent_path();
-      throw InputError(bundle_path.string(), "",
-                       "no image list: expected " + (directory / "list.txt").string() + " or " +
-                           (directory.parent_path() / "list.txt").string());
-    }
-    list = *found;
-  }
+  if (list.empty()) list = findBundlerList(bundle_path).value_or(std::filesystem::path());
 
   std::vector<std::string_view> tokens;
   if (!lines.nextLine(tokens) || lines.line().rfind(kHeader, 0) != 0) {
@@ -98,8 +111,9 @@ SlamStream readBundler(const std::filesystem::path& bundle_path,
   in.setRecord("header");
   const std::uint64_t camera_count = in.integer("number of cameras");
   const std::uint64_t point_count = in.integer("number of points");
-  const std::vector<std::string> names = readImageList(list);
-  if (names.size() != camera_count) {
+  const std::vector<std::string> names =
+      list.empty() ? std::vector<std::string>() : readImageList(list);
+  if (!list.empty() && names.size() != camera_count) {
     throw InputError(list.string(), "",
                      "lists " + std::to_string(names.size()) + " images but " +
                          bundle_path.string() + " has " + std::to_string(camera_count) +
@@ -161,10 +175,13 @@ SlamStream readBundler(const std::filesystem::path& bundle_path,
   }
 
   SlamStream stream;
-  stream.description = bundle_path.string() + " (Bundler v0.3)";
+  stream.description = bundle_path.string() + " (Bundler v0.3, " +
+                       (list.empty() ? std::string("no image list") : "images of " + list.string()) +
+                       ")";
+  stream.recommend_auto_max_distance = true;
   for (std::uint64_t c = 0; c < camera_count; ++c) {
     if (!reconstructed[c]) continue;
-    stream.keyframe_names[keyframes[c].id] = names[c];
+    if (!names.empty()) stream.keyframe_names[keyframes[c].id] = names[c];
     stream.events.emplace_back(std::move(keyframes[c]));
   }
   return stream;

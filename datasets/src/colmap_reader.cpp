@@ -353,6 +353,16 @@ std::optional<ColmapFileType> findColmapModel(const std::filesystem::path& direc
   return std::nullopt;
 }
 
+std::optional<std::filesystem::path> findColmapModelDirectory(const std::filesystem::path& path,
+                                                              std::optional<ColmapFileType> type) {
+  for (const std::filesystem::path& candidate :
+       {path, path / "0", path / "sparse" / "0", path / "sparse"}) {
+    const bool found = type ? hasModelFiles(candidate, *type) : findColmapModel(candidate).has_value();
+    if (found) return candidate;
+  }
+  return std::nullopt;
+}
+
 ColmapModel readColmapModel(const std::filesystem::path& directory, ColmapFileType type) {
   if (type == ColmapFileType::kText) return TextModelParser(directory).parse();
   return BinaryModelParser(directory).parse();
@@ -369,6 +379,7 @@ SlamStream colmapModelToStream(const ColmapModel& model, const std::string& desc
 
   SlamStream stream;
   stream.description = description;
+  stream.recommend_auto_max_distance = true;
   for (const ColmapImage* image : images) {
     mesher::Keyframe keyframe =
         internal::keyframeFromWorldToCamera(image->id, image->rotation_C_W, image->translation_C_W);
@@ -389,8 +400,9 @@ SlamStream colmapModelToStream(const ColmapModel& model, const std::string& desc
   return stream;
 }
 
-SlamStream readColmapStream(const std::filesystem::path& directory,
+SlamStream readColmapStream(const std::filesystem::path& path,
                             std::optional<ColmapFileType> type) {
+  const std::filesystem::path directory = findColmapModelDirectory(path, type).value_or(path);
   if (!type) type = findColmapModel(directory);
   if (!type) {
     throw InputError(directory.string(), "",

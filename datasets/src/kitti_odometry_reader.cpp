@@ -125,8 +125,26 @@ std::vector<Eigen::Isometry3d> posesOfFrames(
     return result;
   }
   const std::filesystem::path times_path = directory / "times.txt";
-  const std::vector<double> times = readKittiTimes(times_path);
   const std::vector<StampedPose> poses = readTumTrajectory(poses_path);
+  std::error_code error;
+  if (!std::filesystem::exists(times_path, error)) {
+    // KITTI's Velodyne download has no times.txt: a trajectory with one pose per scan, in frame
+    // order, still says which pose is which scan's.
+    const auto all_scans = selectScans(directory / "velodyne", KittiOdometryOptions());
+    if (poses.size() != all_scans.size()) {
+      throw InputError(times_path.string(), "",
+                       "missing: TUM poses are matched to scans by time (times.txt), or by order "
+                       "when there is one pose per scan, but " + poses_path.string() + " has " +
+                           std::to_string(poses.size()) + " poses for " +
+                           std::to_string(all_scans.size()) + " scans");
+    }
+    for (const auto& scan : scans) {
+      const auto at = std::lower_bound(all_scans.begin(), all_scans.end(), scan);
+      result.push_back(poses[static_cast<std::size_t>(at - all_scans.begin())].pose_W_C);
+    }
+    return result;
+  }
+  const std::vector<double> times = readKittiTimes(times_path);
   for (const auto& [frame, path] : scans) {
     if (frame >= times.size()) {
       throw InputError(times_path.string(), "",

@@ -41,6 +41,7 @@ class SfmDataParser {
     }
     addObservations(root, views, keyframes);
     stream.description = fields_.file() + " (OpenMVG sfm_data_version " + version + ")";
+    stream.recommend_auto_max_distance = true;
     for (auto& entry : keyframes) stream.events.emplace_back(std::move(entry.second));
     return stream;
   }

@@ -1,5 +1,8 @@
 #include "datasets/slam_stream.h"
 
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
 #include <type_traits>
 
 #include "mesher/mesher.h"
@@ -12,6 +15,27 @@ std::size_t SlamStream::keyframeEventCount() const {
     if (std::holds_alternative<mesher::Keyframe>(event)) ++count;
   }
   return count;
+}
+
+double observationDistanceQuantile(const SlamStream& stream, double quantile) {
+  if (!(quantile >= 0.0 && quantile <= 1.0)) {
+    throw std::invalid_argument("observationDistanceQuantile: quantile must be within [0, 1]");
+  }
+  std::vector<double> distances;
+  for (const StreamEvent& event : stream.events) {
+    const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
+    if (keyframe == nullptr) continue;
+    for (const mesher::PointObservation& observation : keyframe->observations) {
+      distances.push_back((observation.position_W - keyframe->position_W_C).norm());
+    }
+  }
+  if (distances.empty()) return 0.0;
+  // Nearest rank: the smallest distance with at least `quantile` of all distances at or below it.
+  const double rank = std::ceil(quantile * static_cast<double>(distances.size()));
+  const std::size_t index = rank < 1.0 ? 0 : static_cast<std::size_t>(rank) - 1;
+  std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(index),
+                   distances.end());
+  return distances[index];
 }
 
 mesher::UpdateStats applyEvent(mesher::Mesher& mesher, const StreamEvent& event) {

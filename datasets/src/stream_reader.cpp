@@ -84,12 +84,12 @@ StreamFormat detectStreamFormat(const std::filesystem::path& path) {
     throw InputError(path.string(), "", "cannot open: no such file or directory");
   }
   if (std::filesystem::is_directory(status)) {
-    if (findColmapModel(path)) return StreamFormat::kColmap;
+    if (findColmapModelDirectory(path)) return StreamFormat::kColmap;
     if (isKittiSequenceDirectory(path)) return StreamFormat::kKittiOdometry;
     throw InputError(path.string(), "",
                      "unknown input directory (expected a COLMAP model: cameras, images and "
-                     "points3D, all .bin or all .txt; or a KITTI odometry sequence: velodyne/ and "
-                     "calib.txt)");
+                     "points3D, all .bin or all .txt, here or in 0/, sparse/0/ or sparse/; or a "
+                     "KITTI odometry sequence: velodyne/ and calib.txt)");
   }
   const std::string extension = path.extension().string();
   if (extension == ".json") return detectJsonFormat(path);
@@ -104,6 +104,10 @@ StreamFormat detectStreamFormat(const std::filesystem::path& path) {
 SlamStream readAnyStream(const std::filesystem::path& path, const StreamReadOptions& options) {
   const StreamFormat format =
       options.format == StreamFormat::kAuto ? detectStreamFormat(path) : options.format;
+  if (!options.bundler_image_list.empty() && format != StreamFormat::kBundler) {
+    throw std::invalid_argument("an image list applies to Bundler input only, not to " +
+                                std::string(toString(format)) + " input " + path.string());
+  }
   switch (format) {
     case StreamFormat::kSlamJson:
       return readSlamJson(path);
@@ -118,7 +122,7 @@ SlamStream readAnyStream(const std::filesystem::path& path, const StreamReadOpti
     case StreamFormat::kColmapBinary:
       return readColmapStream(path, ColmapFileType::kBinary);
     case StreamFormat::kBundler:
-      return readBundler(path);
+      return readBundler(path, options.bundler_image_list);
     case StreamFormat::kKittiOdometry:
       return readKittiOdometry(path, options.kitti);
     case StreamFormat::kAuto:

@@ -1,15 +1,18 @@
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
 
 #include "boundary_hash.h"
 #include "cgal_types.h"
 #include "mark_epochs.h"
+#include "mesher/mesher.h"
 #include "mesher/mesher_config.h"
 #include "outside_set.h"
 #include "point_registry.h"
 #include "ray_store.h"
 #include "steiner_grid.h"
+#include "surface_log.h"
 #include "visibility_weights.h"
 
 namespace terramesh::mesher::internal {
@@ -24,7 +27,10 @@ struct MapState {
         hash(cfg.boundary_hash),
         outside(tri, grid, hash, epochs),
         weights(cfg.weight_crossed, cfg.weight_neighbour, cfg.weight_second_neighbour,
-                cfg.free_threshold, cfg.spread_cap) {}
+                cfg.free_threshold, cfg.spread_cap),
+        surface_log(Mesher::kSurfaceHistoryRevisions) {
+    outside.attachLog(surface_log, registry);
+  }
 
   MapState(const MapState&) = delete;
   MapState& operator=(const MapState&) = delete;
@@ -55,6 +61,10 @@ struct MapState {
   WeightField weights;
   GrowCandidates candidates;
   std::size_t steiner_vertices = 0;
+  /// Steiner vertices by lattice node (VertexKey::value of their key).
+  std::unordered_map<std::uint64_t, VertexHandle> steiner_nodes;
+  /// What changed on the surface, per revision.
+  SurfaceLog surface_log;
   std::uint32_t next_uid = 1;
 };
 

@@ -29,10 +29,12 @@ void canonicalize(TriangleMesh& mesh) {
   TriangleMesh sorted;
   sorted.vertices.reserve(order.size());
   sorted.is_steiner.reserve(order.size());
+  sorted.vertex_keys.reserve(order.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     rank[order[i]] = i;
     sorted.vertices.push_back(mesh.vertices[order[i]]);
     sorted.is_steiner.push_back(mesh.is_steiner[order[i]]);
+    sorted.vertex_keys.push_back(mesh.vertex_keys[order[i]]);
   }
   sorted.faces = std::move(mesh.faces);
   for (auto& face : sorted.faces) {
@@ -53,6 +55,7 @@ TriangleMesh Mesher::Impl::extractMesh() const {
     if (inserted) {
       mesh.vertices.push_back(internal::toEigen(v->point()));
       mesh.is_steiner.push_back(v->info().steiner ? 1 : 0);
+      mesh.vertex_keys.push_back(state_.outside.vertexKey(v));
     }
     return it->second;
   };
@@ -114,7 +117,10 @@ MapSize Mesher::Impl::size() const {
                              all_cells * sizeof(internal::Delaunay::Cell);
   size.ray_bytes = state_.rays.memoryBytes();
   size.point_bytes = state_.registry.pointBytes(state_.rays.size());
-  size.index_bytes = state_.registry.indexBytes() + state_.hash.memoryBytes();
+  size.index_bytes = state_.registry.indexBytes() + state_.hash.memoryBytes() +
+                     state_.surface_log.memoryBytes() +
+                     state_.steiner_nodes.size() * (sizeof(std::uint64_t) + sizeof(VertexHandle) + 2 * sizeof(void*)) +
+                     state_.steiner_nodes.bucket_count() * sizeof(void*);
   return size;
 }
 

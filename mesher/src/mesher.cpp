@@ -24,6 +24,12 @@ UpdateStats Mesher::removePoints(const std::vector<PointId>& points) {
 }
 UpdateStats Mesher::removeKeyframe(KeyframeId keyframe) { return impl_->removeKeyframe(keyframe); }
 TriangleMesh Mesher::extractMesh() const { return impl_->extractMesh(); }
+std::uint64_t Mesher::revision() const { return impl_->revision(); }
+SurfaceDelta Mesher::changesSince(std::uint64_t revision) const { return impl_->changesSince(revision); }
+std::vector<SurfaceFace> Mesher::surfaceFaces() const { return impl_->surfaceFaces(); }
+std::vector<SurfaceFace> Mesher::facesAround(const std::vector<VertexKey>& vertices) const {
+  return impl_->facesAround(vertices);
+}
 MapSize Mesher::size() const { return impl_->size(); }
 const MesherConfig& Mesher::config() const { return impl_->config(); }
 std::vector<CellVisibility> Mesher::cellVisibility() const { return impl_->cellVisibility(); }

@@ -113,6 +113,10 @@ void Mesher::Impl::classifyPoint(std::uint32_t index, UpdatePlan& plan, UpdateSt
     } else if (viewsInRange(point, point.latest_W) >=
                static_cast<std::size_t>(state_.config.min_views)) {
       plan.insert.push_back(index);
+    } else {
+      ++stats.points_waiting;
+      stats.points_waiting_too_far +=
+          point.keyframes.size() >= static_cast<std::size_t>(state_.config.min_views);
     }
     return;
   }
@@ -144,6 +148,7 @@ void Mesher::Impl::reconcileRays(std::uint32_t index, UpdatePlan& plan, UpdateSt
         std::find(point.keyframes.begin(), point.keyframes.end(), ray.keyframe) != point.keyframes.end();
     if (!observed || !rayWanted(ray.keyframe, point.inserted_W, degenerate)) {
       detachRay(index, slot, plan);
+      touchPoint(index);
       continue;
     }
     if (ray.keyframe == plan.pose_changed) {
@@ -167,6 +172,7 @@ void Mesher::Impl::reconcileRays(std::uint32_t index, UpdatePlan& plan, UpdateSt
     state_.rays[id].flags = kRayNeedsTrace | kRayNewSegment;
     point.rays.push_back(id);
     plan.trace.push_back(id);
+    touchPoint(index);
   }
 }
 
@@ -193,6 +199,9 @@ UpdateStats Mesher::Impl::integrateKeyframe(const Keyframe& keyframe) {
     const std::uint32_t index = registry.findOrCreatePoint(observation.point);
     internal::PointRecord& point = registry.point(index);
     point.latest_W = observation.position_W;
+    ++stats.observations;
+    stats.observations_too_far += (keyframe.position_W_C - observation.position_W).norm() >
+                                  state_.config.maxCameraDistanceUnits();
     if (std::find(point.keyframes.begin(), point.keyframes.end(), k) == point.keyframes.end()) {
       point.keyframes.push_back(k);
     }
@@ -288,6 +297,7 @@ UpdateStats Mesher::Impl::run(UpdatePlan& plan, UpdateStats stats) {
       state_.registry.erasePoint(index);
     }
   }
+  state_.surface_log.commit();
   clock.enter(Step::kIdle);
   stats.time.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
@@ -316,6 +326,9 @@ void Mesher::Impl::growSteinerGrid(const UpdatePlan& plan, UpdateStats& stats) {
     }
     editor_.bootstrap(nodes);
     stats.steiner_points += nodes.size();
+    for (auto v = state_.tri.finite_vertices_begin(); v != state_.tri.finite_vertices_end(); ++v) {
+      state_.steiner_nodes.emplace(state_.outside.vertexKey(v).value, v);
+    }
     return;
   }
   // The fixed grid of the baselines already covers the scene; growing it only happens for data
@@ -345,6 +358,7 @@ void Mesher::Impl::insertSteinerNode(const Eigen::Vector3d& node, UpdateStats& s
   if (result == Result::kInserted) {
     ++stats.steiner_points;
     ++state_.steiner_vertices;
+    state_.steiner_nodes.emplace(state_.outside.vertexKey(vertex).value, vertex);
   }
 }
 
@@ -378,6 +392,7 @@ std::optional<std::unordered_set<internal::GridKey, internal::GridKeyHash>> Mesh
 
 void Mesher::Impl::untraceAndDestroyRaysOf(std::uint32_t index, UpdateStats& stats) {
   internal::PointRecord& point = state_.registry.point(index);
+  if (!point.rays.empty()) touchPoint(index);
   for (RayId id : point.rays) stats.rays_untraced += (state_.rays[id].flags & kRayTraced) != 0;
   tracer_.untrace(point.rays);
   for (RayId id : point.rays) state_.rays.destroy(id);
@@ -414,6 +429,7 @@ void Mesher::Impl::changeTopology(UpdatePlan& plan, UpdateStats& stats, StepCloc
     }
     editor_.remove(point.vertex, retrace_);
     point.vertex = VertexHandle();
+    state_.surface_log.moved(pointKey(index));
     if (moving) {
       reinsert.push_back(index);
     } else {

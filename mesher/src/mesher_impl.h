@@ -26,6 +26,10 @@ class Mesher::Impl {
   UpdateStats removeKeyframe(KeyframeId keyframe);
 
   TriangleMesh extractMesh() const;
+  std::uint64_t revision() const { return state_.surface_log.revision(); }
+  SurfaceDelta changesSince(std::uint64_t revision) const;
+  std::vector<SurfaceFace> surfaceFaces() const;
+  std::vector<SurfaceFace> facesAround(const std::vector<VertexKey>& vertices) const;
   MapSize size() const;
   InvariantReport checkInvariants() const;
   std::vector<CellVisibility> cellVisibility() const;
@@ -52,6 +56,16 @@ class Mesher::Impl {
   void detachRay(std::uint32_t point, std::size_t slot, UpdatePlan& plan);
   std::size_t viewsInRange(const internal::PointRecord& point, const Eigen::Vector3d& at) const;
   bool rayWanted(std::uint32_t keyframe, const Eigen::Vector3d& at, bool& degenerate) const;
+
+  VertexKey pointKey(std::uint32_t index) const { return VertexKey::point(state_.registry.point(index).id); }
+  /// The point gained or lost rays: the observation of its faces changed.
+  void touchPoint(std::uint32_t index) { state_.surface_log.touch(pointKey(index)); }
+
+  // Surface queries (surface_queries.cpp).
+  /// The surface face on facet `facet` of `front` (a cell of O whose neighbour there is not).
+  SurfaceFace makeFace(const internal::CellHandle& front, int facet) const;
+  /// The vertex with this key, or null.
+  internal::VertexHandle vertexOf(const VertexKey& key) const;
 
   // Pipeline.
   UpdateStats run(UpdatePlan& plan, UpdateStats stats);

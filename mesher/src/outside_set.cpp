@@ -112,6 +112,7 @@ void OutsideSet::add(CellHandle cell) {
   cell->info().flags |= kCellOutside;
   ++size_;
   for (int i = 0; i < 4; ++i) vertexGainedCell(cell->vertex(i));
+  if (log_ != nullptr) logFacets(cell, true);
 }
 
 void OutsideSet::remove(CellHandle cell) {
@@ -119,6 +120,32 @@ void OutsideSet::remove(CellHandle cell) {
   cell->info().flags &= static_cast<std::uint8_t>(~kCellOutside);
   --size_;
   for (int i = 0; i < 4; ++i) vertexLostCell(cell->vertex(i));
+  if (log_ != nullptr) logFacets(cell, false);
+}
+
+void OutsideSet::logFacets(const CellHandle& cell, bool entering) {
+  // A facet of `cell` is on the surface iff exactly one of its two cells is in O; it is wound with
+  // its normal into the O side (CGAL's vertex_triple_index winds it into `cell`).
+  for (int i = 0; i < 4; ++i) {
+    WoundFace inward;
+    for (int k = 0; k < 3; ++k) {
+      inward[static_cast<std::size_t>(k)] = vertexKey(cell->vertex(Delaunay::vertex_triple_index(i, k)));
+    }
+    if (cell->neighbor(i)->info().outside()) {
+      const WoundFace into_neighbour{inward[0], inward[2], inward[1]};
+      entering ? log_->faceRemoved(into_neighbour) : log_->faceAdded(into_neighbour);
+    } else {
+      entering ? log_->faceAdded(inward) : log_->faceRemoved(inward);
+    }
+  }
+}
+
+void OutsideSet::touchFacesOf(const CellHandle& cell) {
+  if (log_ == nullptr) return;
+  for (int i = 0; i < 4; ++i) {
+    if (cell->neighbor(i)->info().outside()) continue;
+    for (int k = 0; k < 3; ++k) log_->touch(vertexKey(cell->vertex(Delaunay::vertex_triple_index(i, k))));
+  }
 }
 
 bool OutsideSet::isRegular(VertexHandle v) {

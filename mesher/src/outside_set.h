@@ -6,7 +6,9 @@
 #include "cgal_types.h"
 #include "manifold_test.h"
 #include "mark_epochs.h"
+#include "point_registry.h"
 #include "steiner_grid.h"
+#include "surface_log.h"
 
 namespace terramesh::mesher::internal {
 
@@ -29,8 +31,26 @@ class OutsideSet {
   /// True if removing all `cells` (all in O) at once keeps the boundary manifold.
   bool canRemoveAll(const std::vector<CellHandle>& cells);
 
+  /// From now on, records in `log` every surface face that add and remove create or destroy
+  /// (vertex keys taken from `registry`).
+  void attachLog(SurfaceLog& log, const PointRegistry& registry) {
+    log_ = &log;
+    registry_ = &registry;
+  }
+
   void add(CellHandle cell);
   void remove(CellHandle cell);
+
+  /// Tells the log that the surface faces bounded by `cell` (in O) may be observed differently.
+  void touchFacesOf(const CellHandle& cell);
+
+  /// Stable key of a finite vertex: its point's id, or its Steiner lattice node. Requires a log
+  /// attached (for the registry).
+  VertexKey vertexKey(const VertexHandle& v) const {
+    if (v->info().point != kNone) return VertexKey::point(registry_->point(v->info().point).id);
+    const GridKey node = grid_.nodeOf(toEigen(v->point()));
+    return VertexKey::steinerNode(node.i, node.j, node.k);
+  }
 
   /// Regularity of `v` for the current O (invariant checks).
   bool isRegular(VertexHandle v);
@@ -45,6 +65,8 @@ class OutsideSet {
   bool pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding);
   void vertexGainedCell(VertexHandle v);
   void vertexLostCell(VertexHandle v);
+  /// Logs the faces `cell` gains or loses by entering (or leaving) O; its flag already changed.
+  void logFacets(const CellHandle& cell, bool entering);
 
   const Delaunay& tri_;
   const SteinerGrid& grid_;
@@ -52,6 +74,8 @@ class OutsideSet {
   MarkEpochs& epochs_;
   VertexRegularityTest test_;
   std::size_t size_ = 0;
+  SurfaceLog* log_ = nullptr;
+  const PointRegistry* registry_ = nullptr;
 };
 
 }  // namespace terramesh::mesher::internal

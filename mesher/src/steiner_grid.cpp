@@ -26,6 +26,13 @@ Eigen::Vector3d SteinerGrid::nodePosition(const GridKey& node) const {
   return origin_ + step_ * Eigen::Vector3d(node.i, node.j, node.k);
 }
 
+GridKey SteinerGrid::nodeOf(const Eigen::Vector3d& p) const {
+  const Eigen::Vector3d scaled = (p - origin_) / step_;
+  return {static_cast<std::int32_t>(std::lround(scaled.x())),
+          static_cast<std::int32_t>(std::lround(scaled.y())),
+          static_cast<std::int32_t>(std::lround(scaled.z()))};
+}
+
 bool SteinerGrid::coversCell(const GridKey& key, int margin) const {
   return initialized_ && key.i - margin >= lo_.i && key.j - margin >= lo_.j &&
          key.k - margin >= lo_.k && key.i + 1 + margin <= hi_.i && key.j + 1 + margin <= hi_.j &&

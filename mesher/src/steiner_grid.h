@@ -24,6 +24,8 @@ class SteinerGrid {
   GridKey cellOf(const Eigen::Vector3d& p) const;
   /// Position of lattice node `node`.
   Eigen::Vector3d nodePosition(const GridKey& node) const;
+  /// The lattice node nearest to `p` (exact for p = nodePosition(node)). Requires the origin set.
+  GridKey nodeOf(const Eigen::Vector3d& p) const;
 
   /// Grows the grid so that its nodes cover cells key-margin .. key+margin of the cell containing
   /// `p`, and returns the positions of the nodes added (empty if none). The first call fixes the

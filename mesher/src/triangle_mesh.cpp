@@ -112,6 +112,7 @@ TriangleMesh dropSteinerFaces(const TriangleMesh& mesh) {
   if (mesh.is_steiner.size() != mesh.vertices.size()) {
     throw std::invalid_argument("dropSteinerFaces: is_steiner must have one flag per vertex");
   }
+  const bool keyed = mesh.vertex_keys.size() == mesh.vertices.size();
   TriangleMesh result;
   std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
   for (const auto& face : mesh.faces) {
@@ -123,6 +124,7 @@ TriangleMesh dropSteinerFaces(const TriangleMesh& mesh) {
         index = static_cast<std::uint32_t>(result.vertices.size());
         result.vertices.push_back(mesh.vertices[face[k]]);
         result.is_steiner.push_back(0);
+        if (keyed) result.vertex_keys.push_back(mesh.vertex_keys[face[k]]);
       }
       mapped[k] = index;
     }

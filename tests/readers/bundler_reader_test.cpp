@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
+#include <vector>
 
 #include "datasets/colmap_reader.h"
+#include "datasets/stream_reader.h"
 #include "model_writers.h"
 #include "reader_test_util.h"
 #include "test_support/temp_dir.h"
@@ -117,12 +120,68 @@ TEST_F(BundlerSmallTest, ListInTheParentDirectoryIsFound) {
   EXPECT_EQ(countStream(datasets::readBundler(dir_ / "bundle" / "bundle.out")).keyframe_events, 2u);
 }
 
-TEST_F(BundlerSmallTest, MissingListFile) {
+TEST_F(BundlerSmallTest, WithoutAListTheStreamHasNoNames) {
+  const datasets::SlamStream with_list = datasets::readBundler(bundle_);
   fs::remove(dir_ / "list.txt");
-  expectErrorAt(read(), bundle_, "", "no image list: expected");
+  EXPECT_EQ(datasets::findBundlerList(bundle_), std::nullopt);
+  datasets::SlamStream without_list = datasets::readBundler(bundle_);
+  EXPECT_TRUE(without_list.keyframe_names.empty());
+  EXPECT_NE(without_list.description.find("no image list"), std::string::npos);
+  without_list.keyframe_names = with_list.keyframe_names;
+  EXPECT_TRUE(sameStreams(without_list, with_list));
+  // A list named explicitly must exist.
   const fs::path explicit_list = dir_ / "images.txt";
   expectErrorAt(expectInputError([&] { datasets::readBundler(bundle_, explicit_list); }),
                 explicit_list, "", "cannot open");
+}
+
+TEST(BundlerReader, ListCandidatesInOrder) {
+  const fs::path bundle = fs::path("data") / "run" / "bundle_r000.out";
+  const std::vector<fs::path> expected = {
+      fs::path("data") / "run" / "list_r000.out", fs::path("data") / "run" / "list_r000.txt",
+      fs::path("data") / "run" / "list.txt", fs::path("data") / "list.txt"};
+  EXPECT_EQ(datasets::bundlerListCandidates(bundle), expected);
+  // No "bundle" in the name: only list.txt, beside the file and in its parent (no duplicates).
+  EXPECT_EQ(datasets::bundlerListCandidates(fs::path("model.out")),
+            std::vector<fs::path>{fs::path("list.txt")});
+}
+
+/// OpenSfM's `export_bundler` writes bundle_r000.out beside list_r000.out.
+class OpenSfmExportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    model_ = datasets::readColmapModel(sharedData("colmap_statue_of_liberty/txt_model_40img"),
+                                       datasets::ColmapFileType::kText);
+    bundle_ = writeOpenSfmBundlerExport(dir_.path(), model_);
+  }
+  TempDir dir_;
+  datasets::ColmapModel model_;
+  fs::path bundle_;
+};
+
+TEST_F(OpenSfmExportTest, ListIsFoundAndNamesTheImages) {
+  EXPECT_EQ(bundle_.filename(), "bundle_r000.out");
+  EXPECT_EQ(datasets::findBundlerList(bundle_), dir_ / "list_r000.out");
+  const datasets::SlamStream stream = datasets::readAnyStream(bundle_);
+  EXPECT_EQ(countStream(stream), (StreamCounts{40, 40, 1816, 7737}));
+  ASSERT_EQ(stream.keyframe_names.size(), 40u);
+  EXPECT_EQ(stream.keyframe_names.begin()->second.rfind("images/", 0), 0u);
+  EXPECT_TRUE(stream.recommend_auto_max_distance);
+}
+
+TEST_F(OpenSfmExportTest, ImageListGivenExplicitlyOrNone) {
+  const datasets::SlamStream found = datasets::readBundler(bundle_);
+  fs::rename(dir_ / "list_r000.out", dir_ / "images.lst");
+  datasets::StreamReadOptions options;
+  options.bundler_image_list = dir_ / "images.lst";
+  EXPECT_TRUE(sameStreams(datasets::readAnyStream(bundle_, options), found));
+  // With no list anywhere: the same stream without names.
+  const datasets::SlamStream unnamed = datasets::readAnyStream(bundle_);
+  EXPECT_TRUE(unnamed.keyframe_names.empty());
+  EXPECT_EQ(countStream(unnamed), countStream(found));
+  // An image list for another format is a caller's mistake.
+  options.format = datasets::StreamFormat::kColmapText;
+  EXPECT_THROW(datasets::readAnyStream(dir_.path(), options), std::invalid_argument);
 }
 
 TEST_F(BundlerSmallTest, ListOfTheWrongLength) {

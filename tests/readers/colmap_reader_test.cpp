@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "datasets/stream_reader.h"
 #include "model_writers.h"
 #include "reader_test_util.h"
 #include "test_support/temp_dir.h"
@@ -131,6 +132,47 @@ void expectOtherEncodingReadsIdentically(const fs::path& source, ColmapFileType 
   expectSameModels(original, datasets::readColmapModel(dir.path(), to));
   EXPECT_TRUE(sameStreams(datasets::readColmapStream(source, from),
                           datasets::readColmapStream(dir.path(), to)));
+}
+
+/// Files that COLMAP 3.12+ and its GUI leave beside a model: the project, the database, rigs and
+/// frames (text and binary); none of them is needed to mesh.
+void addNewerColmapFiles(const fs::path& directory) {
+  writeFile(directory / "project.ini", "log_to_stderr=true\n[General]\ndatabase_path=database.db\n");
+  writeFile(directory / "database.db", std::string("SQLite format 3\0", 16));
+  writeFile(directory / "rigs.txt", "# Rig list with one line of data per rig:\n1 1 CAMERA 1\n");
+  writeFile(directory / "frames.txt", "# Frame list with one line of data per frame:\n1 1 1 0 0 0 0 0 0 1 CAMERA 1 IMAGE 1\n");
+  writeFile(directory / "rigs.bin", std::string(8, '\0'));
+  writeFile(directory / "frames.bin", std::string(8, '\0'));
+}
+
+TEST(ColmapReader, ExtraFilesOfNewerColmapAreIgnored) {
+  for (const fs::path& source : {kTextModel, kBinaryModel}) {
+    TempDir dir;
+    copyFiles(source, dir.path());
+    addNewerColmapFiles(dir.path());
+    EXPECT_EQ(datasets::detectStreamFormat(dir.path()), datasets::StreamFormat::kColmap);
+    EXPECT_TRUE(sameStreams(datasets::readAnyStream(dir.path()), datasets::readColmapStream(source)))
+        << source;
+  }
+}
+
+TEST(ColmapReader, WorkspaceFolderLeadsToModelZero) {
+  TempDir dir;
+  copyFiles(kBinaryModel, dir / "sparse" / "0");
+  copyFiles(kTextModel, dir / "sparse" / "1");
+  addNewerColmapFiles(dir.path());
+  const datasets::SlamStream expected = datasets::readColmapStream(kBinaryModel);
+  for (const fs::path& path : {dir.path(), dir / "sparse"}) {
+    EXPECT_EQ(datasets::findColmapModelDirectory(path), dir / "sparse" / "0") << path;
+    EXPECT_EQ(datasets::detectStreamFormat(path), datasets::StreamFormat::kColmap) << path;
+    EXPECT_TRUE(sameStreams(datasets::readAnyStream(path), expected)) << path;
+  }
+  // Asked for text: model 1 is not among the places looked at, but can be named.
+  EXPECT_EQ(datasets::findColmapModelDirectory(dir.path(), ColmapFileType::kText),
+            std::nullopt);
+  EXPECT_EQ(datasets::findColmapModelDirectory(dir / "sparse" / "1", ColmapFileType::kText),
+            dir / "sparse" / "1");
+  EXPECT_EQ(datasets::findColmapModelDirectory(dir / "sparse" / "1" / "missing"), std::nullopt);
 }
 
 TEST(ColmapReader, TextModelWrittenAsBinaryReadsIdentically) {

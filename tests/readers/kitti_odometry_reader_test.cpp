@@ -217,6 +217,38 @@ TEST_F(KittiCopyTest, DetectedAndReadWithPosesInTheFolder) {
   EXPECT_EQ(countStream(datasets::readAnyStream(sequence_)).observations, 124605u + 124478u);
 }
 
+TEST_F(KittiCopyTest, KittiPosesNeedNoTimes) {
+  const datasets::SlamStream expected = datasets::readKittiOdometry(sequence_);
+  fs::remove(sequence_ / "times.txt");
+  EXPECT_TRUE(sameStreams(datasets::readAnyStream(sequence_), expected));
+}
+
+TEST_F(KittiCopyTest, TumPosesWithoutTimesAreMatchedByOrder) {
+  const datasets::SlamStream expected = datasets::readKittiOdometry(sequence_);
+  fs::remove(sequence_ / "times.txt");
+  // One TUM pose per scan (frames 1 and 2), with times that match nothing.
+  const auto poses = datasets::readKittiPoses(kPoses);
+  std::ostringstream out;
+  out << std::setprecision(17);
+  for (std::size_t frame : {1, 2}) {
+    const Eigen::Quaterniond q(poses[frame].linear());
+    const Eigen::Vector3d& t = poses[frame].translation();
+    out << 1000.0 + static_cast<double>(frame) << ' ' << t.x() << ' ' << t.y() << ' ' << t.z()
+        << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+  }
+  writeFile(sequence_ / "poses.txt", out.str());
+  EXPECT_TRUE(sameStreams(datasets::readKittiOdometry(sequence_), expected, 1e-4));
+  KittiOdometryOptions second;
+  second.first_frame = 2;
+  const auto only_second = keyframesOf(datasets::readKittiOdometry(sequence_, second));
+  ASSERT_EQ(only_second.size(), 1u);
+  EXPECT_LT((only_second[0].position_W_C - keyframesOf(expected)[1].position_W_C).norm(), 1e-6);
+
+  // A trajectory with fewer poses than scans cannot be matched without times.
+  writeFile(sequence_ / "poses.txt", out.str().substr(0, out.str().find('\n') + 1));
+  expectErrorAt(read(), sequence_ / "times.txt", "", "1 poses for 2 scans");
+}
+
 TEST_F(KittiCopyTest, PosesInKittisOwnLayout) {
   fs::create_directories(dir_ / "poses");
   fs::rename(sequence_ / "poses.txt", dir_ / "poses" / "00.txt");

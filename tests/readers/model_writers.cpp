@@ -178,4 +178,20 @@ void writeBundlerFromColmap(const std::filesystem::path& bundle_path,
   writeFile(list_path, list.str());
 }
 
+std::filesystem::path writeOpenSfmBundlerExport(const std::filesystem::path& directory,
+                                                const ColmapModel& model) {
+  const std::filesystem::path bundle = directory / "bundle_r000.out";
+  const std::filesystem::path list = directory / "list_r000.out";
+  writeBundlerFromColmap(bundle, list, model);
+  // OpenSfM's list has the image's path relative to the dataset, then 0 and the focal length.
+  std::map<std::uint32_t, const datasets::ColmapCamera*> cameras;
+  for (const auto& camera : model.cameras) cameras[camera.id] = &camera;
+  auto out = exactStream();
+  for (const auto* image : imagesById(model)) {
+    out << "images/" << image->name << " 0 " << cameras.at(image->camera_id)->params.at(0) << '\n';
+  }
+  writeFile(list, out.str());
+  return bundle;
+}
+
 }  // namespace terramesh::test

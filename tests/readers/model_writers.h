@@ -20,4 +20,10 @@ void writeBundlerFromColmap(const std::filesystem::path& bundle_path,
                             const std::filesystem::path& list_path,
                             const datasets::ColmapModel& model);
 
+/// Writes the model as OpenSfM's `export_bundler` names its files: `bundle_r000.out` and
+/// `list_r000.out` in `directory` (image names as `images/NAME 0 FOCAL`), as
+/// writeBundlerFromColmap. Returns the path of the bundle file.
+std::filesystem::path writeOpenSfmBundlerExport(const std::filesystem::path& directory,
+                                                const datasets::ColmapModel& model);
+
 }  // namespace terramesh::test

@@ -49,6 +49,27 @@ class OpenMvgCorruptTest : public ::testing::Test {
   json root_;
 };
 
+TEST_F(OpenMvgCorruptTest, RelativeOrMissingRootPathAndViewVariantsReadTheSame) {
+  const datasets::SlamStream original = datasets::readOpenMvgSfmData(kSfmData);
+  // Converted exports say where the images are relative to the file, or not at all; views of
+  // newer OpenMVG are polymorphic (view_priors) with extra fields; control points may be present.
+  for (const json& root_path : {json("images"), json("."), json("../dinoRing"), json("")}) {
+    root_["root_path"] = root_path;
+    for (auto& view : root_["views"]) {
+      view["value"]["polymorphic_id"] = 1073741824;
+      view["value"]["polymorphic_name"] = "view_priors";
+      view["value"]["ptr_wrapper"]["data"]["local_path"] = "sub/";
+      view["value"]["ptr_wrapper"]["data"]["use_pose_center_prior"] = false;
+    }
+    root_["control_points"] = json::array();
+    writeFile(path_, root_.dump(2));
+    EXPECT_TRUE(sameStreams(datasets::readOpenMvgSfmData(path_), original)) << root_path;
+  }
+  root_.erase("root_path");
+  writeFile(path_, root_.dump());
+  EXPECT_TRUE(sameStreams(datasets::readOpenMvgSfmData(path_), original));
+}
+
 TEST_F(OpenMvgCorruptTest, WrongTypeNamesTheField) {
   root_["extrinsics"][2]["value"]["center"] = "here";
   expectErrorAt(readModified(), path_, "extrinsics[2].value.center",

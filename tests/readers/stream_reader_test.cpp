@@ -68,10 +68,10 @@ TEST(StreamReader, FormatOverrideChoosesTheColmapEncoding) {
   copyFiles(sharedData("colmap_statue_of_liberty/txt_model_40img"), dir.path());
   copyFiles(sharedData("colmap_statue_of_liberty/bin_model_40img"), dir.path());
   EXPECT_EQ(countStream(datasets::readAnyStream(dir.path())).distinct_points, 9066u);
-  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapText, {}}))
+  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapText, {}, {}}))
                 .distinct_points,
             1816u);
-  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapBinary, {}}))
+  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapBinary, {}, {}}))
                 .distinct_points,
             9066u);
 }
@@ -110,7 +110,7 @@ TEST(StreamReader, UnknownInputsAreNamed) {
                 "unknown input directory");
   // An explicit format is obeyed even when detection would choose another.
   expectErrorAt(expectInputError([&] {
-                  datasets::readAnyStream(dir / "other.json", {StreamFormat::kOpenMvg, {}});
+                  datasets::readAnyStream(dir / "other.json", {StreamFormat::kOpenMvg, {}, {}});
                 }),
                 dir / "other.json", "sfm_data_version", "missing field");
 }

@@ -82,6 +82,14 @@ std::optional<int> colmapCameraModelId(std::string_view model);
 /// else none.
 std::optional<ColmapFileType> findColmapModel(const std::filesystem::path& directory);
 
+/// The folder that holds the COLMAP model meant by `path`: `path` itself when it has the three
+/// model files, else the first of `path/0`, `path/sparse/0` and `path/sparse` that has them
+/// (COLMAP's mapper writes `sparse/0`, `sparse/1`...: model 0 is the first); nullopt if none.
+/// Other files in the folder (project.ini, database.db, rigs and frames of COLMAP 3.12...) are
+/// ignored. With `type`, only that encoding counts; without, either.
+std::optional<std::filesystem::path> findColmapModelDirectory(
+    const std::filesystem::path& path, std::optional<ColmapFileType> type = std::nullopt);
+
 /// Reads the three files of a COLMAP sparse model in `directory`. Checks that numbers are
 /// finite, quaternions have unit norm (within 1e-3), ids are unique, and that every image's
 /// camera and every 3D point id an image refers to exist. Tracks are read but not cross-checked
@@ -99,8 +107,9 @@ ColmapModel readColmapModel(const std::filesystem::path& directory, ColmapFileTy
 /// @throw std::invalid_argument if an image refers to a 3D point the model does not have.
 SlamStream colmapModelToStream(const ColmapModel& model, const std::string& description);
 
-/// Reads the COLMAP model in `directory` as a stream (colmapModelToStream), in the given
-/// encoding or, by default, the one findColmapModel finds.
+/// Reads the COLMAP model in `directory` (or in the folder findColmapModelDirectory finds from it)
+/// as a stream (colmapModelToStream), in the given encoding or, by default, the one
+/// findColmapModel finds.
 /// @throw terramesh::InputError if the directory holds no complete model, or as readColmapModel.
 SlamStream readColmapStream(const std::filesystem::path& directory,
                             std::optional<ColmapFileType> type = std::nullopt);

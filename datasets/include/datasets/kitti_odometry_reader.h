@@ -17,7 +17,8 @@ namespace terramesh::datasets {
 enum class PoseFileFormat {
   kAuto,   ///< by the field count of the first pose line: 12 KITTI, 8 TUM
   kKitti,  ///< KITTI odometry: line i = frame i, 12 numbers, the 3x4 cam0-to-world matrix by rows
-  kTum,    ///< TUM: `timestamp tx ty tz qx qy qz qw`, matched to frames through times.txt
+  kTum,    ///< TUM: `timestamp tx ty tz qx qy qz qw`, matched to frames through times.txt (or
+           ///< by order without it: see readKittiOdometry)
 };
 
 /// What readKittiOdometry reads from a sequence, and how it thins the returns.
@@ -88,7 +89,9 @@ std::vector<VelodyneReturn> readVelodyneScan(const std::filesystem::path& path);
 /// T_W_S * x_S with a unique point id (frame << 32 | index of the return in its file), so that
 /// each return is a ray from the sensor. World = cam0 of the poses' first frame (metres): the
 /// stream says metres_per_unit = 1 and recommended_min_views = 1. keyframe_names are the scan
-/// files' names. TUM poses need `times.txt` in the directory.
+/// files' names. TUM poses are matched to scans through `times.txt` in the directory; without it
+/// (KITTI's Velodyne download has none), by order when there is one pose per scan in velodyne/.
+/// KITTI poses need no times.txt.
 /// @throw std::invalid_argument if `options` are invalid (see problems()).
 /// @throw terramesh::InputError naming the file: no scan selected, a frame without a pose, a
 ///        corrupt scan, bad calib, poses or times.

@@ -38,6 +38,10 @@ struct SlamStream {
   /// Views a point needs before insertion that suits this source (0: no advice). LiDAR streams,
   /// where every return is seen once, advise 1.
   int recommended_min_views = 0;
+  /// Whether the mesher's camera-distance filter should be derived from the data rather than a
+  /// fixed distance in metres: structure-from-motion models (COLMAP, OpenMVG, Bundler) have an
+  /// arbitrary scale, so that "40 m" means nothing in their units.
+  bool recommend_auto_max_distance = false;
   /// Free text: where the stream came from.
   std::string description;
   /// The image (or scan) file of each keyframe, when the source names one (COLMAP, OpenMVG,
@@ -46,6 +50,12 @@ struct SlamStream {
 
   std::size_t keyframeEventCount() const;
 };
+
+/// The `quantile` (0-1) of the distances from each keyframe event's camera centre to the points it
+/// observes, in map units, over every observation of the stream (nearest rank); 0 when the stream
+/// has no observation. O(observations log observations).
+/// @throw std::invalid_argument if quantile is not within [0, 1].
+double observationDistanceQuantile(const SlamStream& stream, double quantile);
 
 /// Feeds one event to the mesher and returns what the update did.
 mesher::UpdateStats applyEvent(mesher::Mesher& mesher, const StreamEvent& event);

@@ -38,6 +38,9 @@ struct StreamReadOptions {
   StreamFormat format = StreamFormat::kAuto;
   /// Options of the KITTI reader (poses file, frames, thinning).
   KittiOdometryOptions kitti;
+  /// Bundler input: the image list (empty: found by findBundlerList, or none). Other formats
+  /// refuse a non-empty one.
+  std::filesystem::path bundler_image_list;
 };
 
 /// The format of `path`: a directory is a COLMAP model (cameras, images, points3D all .bin or
@@ -49,7 +52,8 @@ StreamFormat detectStreamFormat(const std::filesystem::path& path);
 
 /// Reads any supported input as a stream, in `options.format` or the detected one.
 /// @throw terramesh::InputError naming the file and line or field for unreadable or bad input.
-/// @throw std::invalid_argument if `options.kitti` is invalid (KITTI input only).
+/// @throw std::invalid_argument if `options.kitti` is invalid (KITTI input only), or if
+///        `options.bundler_image_list` is set for input that is not Bundler.
 SlamStream readAnyStream(const std::filesystem::path& path, const StreamReadOptions& options = {});
 
 }  // namespace terramesh::datasets

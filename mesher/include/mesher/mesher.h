@@ -10,6 +10,7 @@
 #include "mesher/ids.h"
 #include "mesher/keyframe.h"
 #include "mesher/mesher_config.h"
+#include "mesher/surface_delta.h"
 #include "mesher/triangle_mesh.h"
 #include "mesher/update_stats.h"
 
@@ -29,7 +30,7 @@ struct MapSize {
   std::size_t triangulation_bytes = 0;  ///< vertices and cells
   std::size_t ray_bytes = 0;            ///< ray records, paths and per-cell ray lists
   std::size_t point_bytes = 0;          ///< point and keyframe records
-  std::size_t index_bytes = 0;          ///< id maps and the boundary hash
+  std::size_t index_bytes = 0;          ///< id maps, the boundary hash and the surface history
   std::size_t totalBytes() const { return triangulation_bytes + ray_bytes + point_bytes + index_bytes; }
 };
 
@@ -91,6 +92,29 @@ class Mesher {
   /// vertices, flagged in `is_steiner`), in a canonical order: vertices sorted by position, faces
   /// sorted, so equal surfaces give equal meshes. O(cells + F log F).
   TriangleMesh extractMesh() const;
+
+  /// Revision of the surface: starts at 0 and grows by one with every update call that changed
+  /// the surface or the observation of its vertices. O(1).
+  std::uint64_t revision() const;
+
+  /// Faces added and removed, and vertices touched, since `revision` (see SurfaceDelta). Exact:
+  /// every surface change goes through adding or removing a cell of O. Cost proportional to the
+  /// changes since `revision`, not to the map. History older than the last
+  /// `kSurfaceHistoryRevisions` revisions is forgotten: asking for it gives `complete == false`.
+  /// @throw std::invalid_argument if `revision` is greater than revision().
+  SurfaceDelta changesSince(std::uint64_t revision) const;
+
+  /// Revisions of surface history kept for changesSince.
+  static constexpr std::uint64_t kSurfaceHistoryRevisions = 4096;
+
+  /// Every face of the current surface with its observation counts, sorted by key. O(F log F).
+  std::vector<SurfaceFace> surfaceFaces() const;
+
+  /// The current surface faces having a vertex in `vertices`, with their observation counts,
+  /// sorted by key, without repeats; unknown keys are ignored. Use it with
+  /// SurfaceDelta::touched_vertices to refresh the counts of faces that changed only in how they
+  /// were observed. O(sum of the vertices' degrees + result log result).
+  std::vector<SurfaceFace> facesAround(const std::vector<VertexKey>& vertices) const;
 
   MapSize size() const;
   const MesherConfig& config() const;

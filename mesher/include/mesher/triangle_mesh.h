@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "mesher/surface_delta.h"
+
 namespace terramesh::mesher {
 
 /// An indexed triangle mesh. Faces are wound counter-clockwise seen from free space, so face
@@ -15,6 +17,9 @@ struct TriangleMesh {
   /// One flag per vertex: 1 for a Steiner (grid) vertex, 0 for a measured SLAM point.
   /// Either empty (unknown) or the same size as `vertices`.
   std::vector<std::uint8_t> is_steiner;
+  /// Stable identity of each vertex (SLAM point id or Steiner lattice node). Either empty
+  /// (unknown, e.g. a mesh read from a file) or the same size as `vertices`.
+  std::vector<VertexKey> vertex_keys;
 
   std::size_t vertexCount() const { return vertices.size(); }
   std::size_t faceCount() const { return faces.size(); }
@@ -44,7 +49,8 @@ struct MeshTopology {
 MeshTopology analyzeTopology(const TriangleMesh& mesh);
 
 /// Returns the open surface made of the faces that touch no Steiner vertex, with unreferenced
-/// vertices removed. Requires `mesh.is_steiner` to be filled.
+/// vertices removed. Requires `mesh.is_steiner` to be filled; `vertex_keys` is carried along when
+/// it has one key per vertex.
 /// @throw std::invalid_argument if `is_steiner` does not match the vertex count.
 TriangleMesh dropSteinerFaces(const TriangleMesh& mesh);
 

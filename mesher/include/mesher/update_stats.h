@@ -26,6 +26,18 @@ struct UpdateStats {
   std::size_t deferred_points = 0;   ///< moves/removals postponed: the star still touched O
   std::size_t steiner_points = 0;    ///< Steiner vertices added
 
+  /// Input filters (MesherConfig::max_camera_distance_m and min_views).
+  std::size_t observations = 0;  ///< point observations in the keyframes of this update
+  /// ... farther than max_camera_distance_m from their keyframe's camera: no ray, and the view
+  /// does not count towards min_views
+  std::size_t observations_too_far = 0;
+  /// Points this update looked at and left out of the triangulation for now: fewer than
+  /// min_views of their keyframes within max_camera_distance_m (a point counts again in each
+  /// update that touches it while it waits)
+  std::size_t points_waiting = 0;
+  /// ... of which seen by min_views keyframes or more, too many of them too far away
+  std::size_t points_waiting_too_far = 0;
+
   std::size_t rays_traced = 0;     ///< rays walked for the first time (new observations)
   std::size_t rays_retraced = 0;   ///< stored rays walked again after cells they used changed
   std::size_t rays_untraced = 0;   ///< rays whose votes were withdrawn for good

@@ -1,0 +1,214 @@
+// terramesh plan MAP_DIR --start X Y Z --goal X Y Z -o OUT: a path a ground robot can drive, on the
+// traversability mesh, with OMPL; or --random-pairs N for a benchmark against the face-graph optimum.
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+#include "cli_args.h"
+#include "commands.h"
+#include "common/atomic_file.h"
+#include "planning/face_graph.h"
+#include "planning/ompl_benchmark_log.h"
+#include "planning/surface_planner.h"
+#include "traversability/map_directory.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::cli {
+namespace {
+
+/// "--start X Y Z" becomes "--start X,Y,Z" so that the parser sees one value.
+std::vector<std::string> joinTriples(const std::vector<std::string>& args) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    out.push_back(args[i]);
+    if ((args[i] == "--start" || args[i] == "--goal") && i + 3 < args.size()) {
+      out.push_back(args[i + 1] + "," + args[i + 2] + "," + args[i + 3]);
+      i += 3;
+    }
+  }
+  return out;
+}
+
+Eigen::Vector3d parsePoint(const ArgParser& parser, const std::string& name) {
+  std::stringstream in(parser.get(name));
+  Eigen::Vector3d p;
+  char comma1 = 0, comma2 = 0;
+  if (!(in >> p.x() >> comma1 >> p.y() >> comma2 >> p.z()) || comma1 != ',' || comma2 != ',' || !p.allFinite()) {
+    throw UsageError("plan: " + name + " expects three numbers X Y Z, got \"" + parser.get(name) + "\"");
+  }
+  return p;
+}
+
+void writePathFiles(const std::filesystem::path& out, const planning::PlanResult& result) {
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "x,y,z,yaw,face,cost\n";
+  for (const planning::PathState& state : result.states) {
+    const Eigen::Vector3d& p = state.location.point_W;
+    csv << p.x() << ',' << p.y() << ',' << p.z() << ',' << state.yaw_rad << ',' << state.location.face << ','
+        << state.face_cost << '\n';
+  }
+  writeFileAtomically(out / "path.csv", csv.str());
+  std::ostringstream ply;
+  ply.precision(10);
+  ply << "ply\nformat ascii 1.0\ncomment terramesh plan: the path as a line set\nelement vertex " << result.states.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\nelement edge "
+      << (result.states.empty() ? 0 : result.states.size() - 1)
+      << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  for (const planning::PathState& state : result.states) {
+    const Eigen::Vector3d& p = state.location.point_W;
+    ply << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  }
+  for (std::size_t i = 1; i < result.states.size(); ++i) ply << i - 1 << ' ' << i << '\n';
+  writeFileAtomically(out / "path.ply", ply.str());
+}
+
+std::string describe(const planning::PlanResult& result) {
+  std::ostringstream out;
+  out << "planner " << result.planner << "\nstatus " << planning::toString(result.status) << "\nreason "
+      << (result.reason.empty() ? "-" : result.reason) << "\ntime_s " << result.planning_time_s << "\nsimplify_time_s "
+      << result.simplify_time_s << "\nlength_m " << result.length_m << "\ncost " << result.cost << "\nfirst_cost "
+      << result.first_cost << "\nfirst_time_s " << result.first_time_s << "\nstates " << result.states.size() << '\n';
+  return out.str();
+}
+
+std::string hostname() {
+  char name[256] = {};
+  return gethostname(name, sizeof(name) - 1) == 0 ? std::string(name) : std::string("unknown");
+}
+
+int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConfig& config, std::size_t count,
+                   const std::filesystem::path& out, bool quiet) {
+  const auto started = std::chrono::steady_clock::now();
+  const auto pairs = planning::drawRandomPairs(graph, count, config.seed, 5.0);
+  if (pairs.empty()) throw std::runtime_error("plan: no walkable component to draw pairs from");
+  planning::BenchmarkPlannerRuns sampled{"geometric_" + config.planner,
+                                         {"time REAL", "solved BOOLEAN", "surface length REAL", "path cost REAL",
+                                          "first solution time REAL", "simplification time REAL",
+                                          "graph optimum cost REAL", "cost over graph optimum REAL"},
+                                         {}};
+  planning::BenchmarkPlannerRuns graph_runs{"graph_astar", {"time REAL", "solved BOOLEAN", "surface length REAL", "path cost REAL"}, {}};
+  std::ostringstream csv;
+  csv << "pair,start_x,start_y,start_z,goal_x,goal_y,goal_z,status,length_m,cost,time_s,graph_cost,graph_time_s\n";
+  std::size_t solved = 0;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Eigen::Vector3d a = pairs[i].first.point_W, b = pairs[i].second.point_W;
+    const planning::PlanResult graph_result = planning::planOnFaceGraph(graph, a, b, config);
+    const planning::PlanResult result = planning::planOnSurface(graph, a, b, config);
+    solved += result.solved() ? 1 : 0;
+    const double nan = std::nan("");
+    sampled.runs.push_back({result.planning_time_s, result.solved() ? 1.0 : 0.0, result.solved() ? result.length_m : nan,
+                            result.solved() ? result.cost : nan, result.first_time_s, result.simplify_time_s,
+                            graph_result.cost, result.solved() ? result.cost / graph_result.cost : nan});
+    graph_runs.runs.push_back({graph_result.planning_time_s, graph_result.solved() ? 1.0 : 0.0, graph_result.length_m,
+                               graph_result.cost});
+    csv << i << ',' << a.x() << ',' << a.y() << ',' << a.z() << ',' << b.x() << ',' << b.y() << ',' << b.z() << ','
+        << planning::toString(result.status) << ',' << result.length_m << ',' << result.cost << ','
+        << result.planning_time_s << ',' << graph_result.cost << ',' << graph_result.planning_time_s << '\n';
+  }
+  planning::BenchmarkExperiment experiment;
+  experiment.name = "terramesh_plan";
+  experiment.parameters = {{"map_type", "mesh"}};
+  experiment.hostname = hostname();
+  experiment.setup = std::to_string(pairs.size()) + " random start/goal pairs on the largest walkable component";
+  experiment.seed = config.seed;
+  experiment.time_limit_s = config.time_budget_s;
+  experiment.run_count = pairs.size();
+  experiment.total_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  experiment.planners = {sampled, graph_runs};
+  planning::writeOmplBenchmarkLog(out / "benchmark.log", experiment);
+  writeFileAtomically(out / "pairs.csv", csv.str());
+  std::ostringstream summary;
+  summary << "planner " << config.planner << "\npairs " << pairs.size() << "\nsolved " << solved << '\n';
+  writeFileAtomically(out / "plan.txt", summary.str());
+  if (!quiet) std::cout << summary.str();
+  return kExitOk;
+}
+
+}  // namespace
+
+int runPlan(const std::vector<std::string>& args) {
+  ArgParser parser("plan");
+  parser.positional("MAP_DIR", "map directory written by terramesh traverse (traversability.ply, robot.yaml, map_frame.yaml)")
+      .option("--start", "X Y Z", "start point, map frame and units (snapped to the nearest walkable face)")
+      .option("--goal", "X Y Z", "goal point")
+      .option("--output", "DIR", "output directory (created if missing)")
+      .alias("-o", "--output")
+      .option("--planner", "NAME", "rrtstar, informed-rrtstar, prmstar, lazyprmstar, bitstar, aitstar, or graph (A* baseline)",
+              "bitstar")
+      .option("--time-budget-s", "T", "planning time budget per query", "2")
+      .option("--seed", "N", "random seed (> 0)", "1")
+      .option("--snap-radius-m", "R", "start and goal must lie this close to a walkable face", "0.5")
+      .option("--random-pairs", "N", "plan between N random pairs instead; writes benchmark.log and pairs.csv")
+      .option("--robot", "FILE", "recompute the layers for this robot profile (YAML) instead of robot.yaml")
+      .flag("--no-simplify", "keep the planner's raw path")
+      .flag("--quiet", "print nothing but errors");
+  parser.parse(joinTriples(args));
+  if (parser.helpRequested()) {
+    std::cout << parser.usage()
+              << "\nwrites OUT/path.csv (x,y,z,yaw,face,cost), OUT/path.ply (line set) and OUT/plan.txt; exit code 3 "
+                 "when the goal is unreachable (one-line reason)\n";
+    return kExitOk;
+  }
+  if (!parser.has("--output")) throw UsageError("plan: -o/--output DIR is required");
+  const bool random = parser.has("--random-pairs");
+  if (!random && (!parser.has("--start") || !parser.has("--goal"))) {
+    throw UsageError("plan: give --start X Y Z and --goal X Y Z, or --random-pairs N");
+  }
+  planning::PlannerConfig config;
+  const std::string planner = parser.get("--planner");
+  const bool graph_only = planner == "graph";
+  config.planner = graph_only ? "rrtstar" : planner;
+  config.time_budget_s = parser.getDouble("--time-budget-s");
+  const long seed = parser.getInt("--seed");
+  if (seed <= 0) throw UsageError("plan: --seed must be > 0");
+  config.seed = static_cast<std::uint32_t>(seed);
+  config.snap_radius_m = parser.getDouble("--snap-radius-m");
+  config.simplify = !parser.flagSet("--no-simplify");
+  config.validate();
+  const bool quiet = parser.flagSet("--quiet");
+
+  traversability::MapDirectory map = traversability::readMapDirectory(parser.positionalValue("MAP_DIR"));
+  if (parser.has("--robot")) {
+    map.profile = traversability::loadRobotProfile(parser.get("--robot"));
+    map.profile.validate();
+    traversability::MapFrame frame;
+    frame.up_W = map.map.up_W;
+    frame.metres_per_unit = map.map.metres_per_unit;
+    map.map = traversability::TraversabilityMap::computeForMesh(map.map.mesh, map.profile, frame,
+                                                                static_cast<std::uint32_t>(map.profile.min_rays));
+  }
+  planning::WalkabilityConfig walkability;
+  walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
+  const planning::FaceGraph graph(map.map, walkability);
+  planning::setOmplLogging(false);
+  planning::seedOmpl(config.seed);
+
+  const std::filesystem::path out = parser.get("--output");
+  std::filesystem::create_directories(out);
+  if (random) {
+    const long count = parser.getInt("--random-pairs");
+    if (count <= 0) throw UsageError("plan: --random-pairs must be > 0");
+    return runRandomPairs(graph, config, static_cast<std::size_t>(count), out, quiet);
+  }
+  const Eigen::Vector3d start = parsePoint(parser, "--start"), goal = parsePoint(parser, "--goal");
+  const planning::PlanResult result = graph_only ? planning::planOnFaceGraph(graph, start, goal, config)
+                                                 : planning::planOnSurface(graph, start, goal, config);
+  writeFileAtomically(out / "plan.txt", describe(result));
+  if (result.solved()) {
+    writePathFiles(out, result);
+    if (!quiet) std::cout << describe(result);
+    return kExitOk;
+  }
+  if (result.status == planning::PlanStatus::kNotFound) {
+    std::cerr << "terramesh: plan: " << result.reason << '\n';
+    return kExitFailure;
+  }
+  std::cerr << "terramesh: plan: unreachable: " << result.reason << '\n';
+  return kExitUnreachable;
+}
+
+}  // namespace terramesh::cli

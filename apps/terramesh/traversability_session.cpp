@@ -1,0 +1,183 @@
+#include "traversability_session.h"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <variant>
+
+#include "common/atomic_file.h"
+
+namespace terramesh::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+constexpr const char* kUpdatesCsv = "traversability_updates.csv";
+
+}  // namespace
+
+void declareTraversabilityExportOptions(ArgParser& parser) {
+  parser.option("--robot", "YAML", "robot profile (traversability/robots/*.yaml); for mesh: enables the traversability map")
+      .option("--grid-resolution-m", "R", "cell size of the Nav2 maps and GeoTIFF layers, metres", "0.1")
+      .flag("--no-geotiff", "do not write the GeoTIFF layers (layers_level_N.tif)");
+}
+
+traversability::ExportConfig exportConfigFromArgs(const ArgParser& parser) {
+  traversability::ExportConfig config;
+  config.grid_resolution_m = parser.getDouble("--grid-resolution-m");
+  if (!(config.grid_resolution_m > 0) || !std::isfinite(config.grid_resolution_m)) {
+    throw UsageError("--grid-resolution-m must be > 0");
+  }
+  config.write_geotiff = !parser.flagSet("--no-geotiff");
+  config.validate();
+  return config;
+}
+
+traversability::RobotProfile robotFromArgs(const ArgParser& parser) {
+  const std::filesystem::path path = parser.get("--robot");
+  traversability::RobotProfile profile = traversability::loadRobotProfile(path);
+  try {
+    profile.validate();
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(path.string() + ": " + error.what());
+  }
+  return profile;
+}
+
+Eigen::Vector3d parseUpVector(const std::string& text) {
+  std::istringstream in(text);
+  Eigen::Vector3d up;
+  char comma1 = 0, comma2 = 0;
+  if (!(in >> up.x() >> comma1 >> up.y() >> comma2 >> up.z()) || comma1 != ',' || comma2 != ',' ||
+      !(in >> std::ws).eof() || !up.allFinite() || up.norm() < 1e-12) {
+    throw UsageError("--up must be X,Y,Z, a finite non-zero vector (got \"" + text + "\")");
+  }
+  return up.normalized();
+}
+
+void TraversabilitySession::declareOptions(ArgParser& parser) {
+  declareTraversabilityExportOptions(parser);
+  parser.option("--export-every", "K", "with --robot: rewrite the map exports every K keyframes (0: only at the end)",
+                "0");
+}
+
+std::optional<TraversabilitySession> TraversabilitySession::fromArgs(const ArgParser& parser,
+                                                                     const datasets::SlamStream& stream,
+                                                                     double metres_per_unit,
+                                                                     std::filesystem::path output) {
+  if (!parser.has("--robot")) {
+    if (parser.has("--export-every") && parser.getInt("--export-every") != 0) {
+      throw UsageError("mesh: --export-every needs --robot");
+    }
+    return std::nullopt;
+  }
+  const long export_every = parser.getInt("--export-every");
+  if (export_every < 0) throw UsageError("mesh: --export-every must be >= 0");
+  const traversability::ExportConfig config = exportConfigFromArgs(parser);
+  const traversability::RobotProfile profile = robotFromArgs(parser);
+  traversability::MapFrame frame;
+  frame.metres_per_unit = metres_per_unit;
+  std::string up_source;
+  if (profile.gravity_W) {
+    frame.up_W = -profile.gravity_W->normalized();
+    up_source = "the robot profile's gravity";
+  } else {
+    std::vector<Eigen::Matrix3d> rotations;
+    for (const datasets::StreamEvent& event : stream.events) {
+      if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+        rotations.push_back(keyframe->rotation_W_C.toRotationMatrix());
+      }
+    }
+    if (rotations.empty()) throw std::invalid_argument("mesh: --robot: the stream has no keyframes to estimate up from");
+    frame.up_W = traversability::estimateUpFromCameras(rotations);
+    std::ostringstream text;
+    text << "estimated from " << rotations.size() << " keyframe rotations";
+    up_source = text.str();
+  }
+  frame.validate();
+  return TraversabilitySession(profile, frame, config, std::move(output), static_cast<std::size_t>(export_every),
+                               up_source);
+}
+
+TraversabilitySession::TraversabilitySession(traversability::RobotProfile profile, traversability::MapFrame frame,
+                                             traversability::ExportConfig config, std::filesystem::path output,
+                                             std::size_t export_every, std::string up_source)
+    : profile_(std::move(profile)),
+      config_(config),
+      output_(std::move(output)),
+      export_every_(export_every),
+      up_source_(std::move(up_source)),
+      map_(std::make_unique<traversability::TraversabilityMap>(profile_, frame)) {
+  csv_ << "event,keyframes,revision,faces_added,faces_removed,faces_recomputed,faces_total,full_rebuild,"
+          "layer_update_s,export_s\n";
+}
+
+void TraversabilitySession::update(const mesher::Mesher& mesher, const std::string& event) {
+  const mesher::SurfaceDelta delta = mesher.changesSince(revision_);
+  traversability::LayerUpdateStats stats;
+  if (!delta.complete) {
+    stats = map_->reset(mesher.surfaceFaces());
+    ++full_rebuilds_;
+  } else if (!delta.empty()) {
+    stats = map_->apply(delta);
+  } else {
+    stats.faces_total = map_->faceCount();
+  }
+  revision_ = mesher.revision();
+  update_seconds_ += stats.seconds;
+  csv_ << event << ',' << keyframes_ << ',' << revision_ << ',' << stats.faces_added << ','
+       << stats.faces_removed << ',' << stats.faces_recomputed << ',' << stats.faces_total << ','
+       << (stats.full_rebuild || !delta.complete ? 1 : 0) << ',' << stats.seconds << ',';
+}
+
+traversability::ExportReport TraversabilitySession::exportNow() {
+  const auto start = Clock::now();
+  traversability::LayeredMesh snapshot = map_->snapshot();
+  const traversability::ExportReport report = traversability::writeMapDirectory(output_, snapshot, profile_, config_);
+  ++exports_;
+  exported_revision_ = revision_;
+  last_report_ = report;
+  export_seconds_ += secondsSince(start);
+  return report;
+}
+
+void TraversabilitySession::afterEvent(const mesher::Mesher& mesher, std::size_t event_index, bool is_keyframe) {
+  if (is_keyframe) ++keyframes_;
+  update(mesher, std::to_string(event_index));
+  double export_s = 0;
+  if (is_keyframe && export_every_ > 0 && keyframes_ % export_every_ == 0) {
+    const auto start = Clock::now();
+    exportNow();
+    export_s = secondsSince(start);
+    writeFileAtomically(output_ / kUpdatesCsv, csv_.str() + std::to_string(export_s) + "\n");
+  }
+  csv_ << export_s << '\n';
+}
+
+void TraversabilitySession::finish(const mesher::Mesher& mesher, std::ostream& summary) {
+  const auto start = Clock::now();
+  if (mesher.revision() != revision_) update(mesher, "end");
+  else csv_ << "end," << keyframes_ << ',' << revision_ << ",0,0,0," << map_->faceCount() << ",0,0,";
+  // The last keyframe may have exported this very revision already.
+  const bool current = exports_ > 0 && exported_revision_ == revision_;
+  const traversability::ExportReport report = current ? last_report_ : exportNow();
+  csv_ << (current ? 0.0 : secondsSince(start)) << '\n';
+  writeFileAtomically(output_ / kUpdatesCsv, csv_.str());
+  summary << "traversability: robot " << profile_.name << ", up " << map_->frame().up_W.transpose() << " ("
+          << up_source_ << "), " << map_->faceCount() << " faces, " << report.levels << " level(s); "
+          << exports_ << " export(s), layer updates " << update_seconds_ << " s in total ("
+          << full_rebuilds_ << " full rebuild(s)), exports " << export_seconds_ << " s\n";
+  for (std::size_t l = 0; l < report.levels; ++l) {
+    summary << "  level " << l << ": mean height " << report.level_heights_m[l] << " m -> level_" << l
+            << ".yaml\n";
+  }
+  summary << "  traversability map: " << (output_ / "traversability.ply").string()
+          << " (details in traversability_summary.txt, per-update times in " << kUpdatesCsv << ")\n";
+}
+
+}  // namespace terramesh::cli

@@ -1,0 +1,77 @@
+#pragma once
+
+// Keeps a traversability map current while `terramesh mesh --robot R.yaml` meshes a stream, and
+// rewrites the map directory's exports every K keyframes and at the end.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "cli_args.h"
+#include "datasets/slam_stream.h"
+#include "mesher/mesher.h"
+#include "traversability/map_directory.h"
+#include "traversability/robot_profile.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::cli {
+
+/// Options shared by `mesh` and `traverse`: the robot, the grid and the GeoTIFF switch.
+void declareTraversabilityExportOptions(ArgParser& parser);
+/// @throw UsageError for a bad --grid-resolution-m.
+traversability::ExportConfig exportConfigFromArgs(const ArgParser& parser);
+/// Loads --robot and validates it.
+/// @throw terramesh::InputError naming the file and key; std::invalid_argument for a range error.
+traversability::RobotProfile robotFromArgs(const ArgParser& parser);
+/// Parses "X,Y,Z" (the --up option).
+/// @throw UsageError naming the option.
+Eigen::Vector3d parseUpVector(const std::string& text);
+
+class TraversabilitySession {
+ public:
+  /// Declares --robot (which enables the session) and --export-every, plus the export options.
+  static void declareOptions(ArgParser& parser);
+
+  /// nullopt without --robot. Up: the profile's gravity, else estimated from every keyframe's
+  /// rotation in the stream (estimateUpFromCameras). Validates everything before any output.
+  /// @throw UsageError, InputError or std::invalid_argument for bad options, robot or frame.
+  static std::optional<TraversabilitySession> fromArgs(const ArgParser& parser, const datasets::SlamStream& stream,
+                                                       double metres_per_unit, std::filesystem::path output);
+
+  /// Brings the layers up to date with the mesher after one stream event (delta or, when the
+  /// history is gone, a full reset), and exports every K keyframes.
+  void afterEvent(const mesher::Mesher& mesher, std::size_t event_index, bool is_keyframe);
+  /// Final update and export; appends a few summary lines.
+  void finish(const mesher::Mesher& mesher, std::ostream& summary);
+
+  /// Where "up" came from, for the summary.
+  const std::string& upSource() const { return up_source_; }
+
+ private:
+  TraversabilitySession(traversability::RobotProfile profile, traversability::MapFrame frame,
+                        traversability::ExportConfig config, std::filesystem::path output, std::size_t export_every,
+                        std::string up_source);
+  void update(const mesher::Mesher& mesher, const std::string& event);
+  traversability::ExportReport exportNow();
+
+  traversability::RobotProfile profile_;
+  traversability::ExportConfig config_;
+  std::filesystem::path output_;
+  std::size_t export_every_ = 0;
+  std::string up_source_;
+  std::unique_ptr<traversability::TraversabilityMap> map_;
+  std::uint64_t revision_ = 0;
+  std::size_t keyframes_ = 0;
+  std::size_t exports_ = 0;
+  std::uint64_t exported_revision_ = 0;
+  traversability::ExportReport last_report_;
+  std::size_t full_rebuilds_ = 0;
+  double update_seconds_ = 0;
+  double export_seconds_ = 0;
+  std::ostringstream csv_;
+};
+
+}  // namespace terramesh::cli

@@ -1,0 +1,269 @@
+// terramesh traverse-eval MAP_DIR: a traversability map against per-robot ground truth (a
+// labelled mesh of terramesh generate) or, on real data, against the road under the camera path.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <variant>
+
+#include "cli_args.h"
+#include "commands.h"
+#include "common/atomic_file.h"
+#include "common/input_error.h"
+#include "datasets/labeled_mesh.h"
+#include "datasets/similarity_transform.h"
+#include "datasets/stream_reader.h"
+#include "evaluation/ground_truth_traversability.h"
+#include "evaluation/mesh_refinement.h"
+#include "evaluation/road_under_path.h"
+#include "evaluation/robot_limits.h"
+#include "evaluation/traversability_score.h"
+#include "traversability/map_directory.h"
+
+namespace terramesh::cli {
+namespace {
+
+void declareOptions(ArgParser& parser) {
+  parser.positional("MAP_DIR", "a map directory (traversability.ply, robot.yaml, map_frame.yaml)")
+      .option("--gt-mesh", "FILE", "ground truth: a labelled mesh (ground_truth.ply of terramesh generate)")
+      .option("--gt-up", "X,Y,Z", "with --gt-mesh: the truth's up vector (default: from its level faces)")
+      .option("--sim3", "FILE", "with --gt-mesh: map the map into the truth's frame by x' = s R x + t")
+      .option("--max-distance-m", "D", "with --gt-mesh: map surface farther than D from the truth is not scored",
+              "0.5")
+      .option("--gt-max-edge-m", "E", "with --gt-mesh: truth faces are split to edges <= E and judged each", "0.25")
+      .option("--sample-edge-m", "E", "map faces are split to edges <= E, each piece judged at its centroid",
+              "0.25")
+      .option("--road-under-path", "STREAM",
+              "real data: the map's classes on the road under the keyframe centres of STREAM (map units)")
+      .option("--camera-height-m", "H", "with --road-under-path: the road lies H below the camera", "1.65")
+      .option("--lateral-m", "L", "with --road-under-path: map surface within L of the path, horizontally", "1.5")
+      .option("--height-tolerance-m", "T", "with --road-under-path: ... and within H +- T below it", "0.5")
+      .option("--report", "FILE", "also write the report to FILE (atomically)")
+      .flag("--quiet", "print nothing but errors");
+}
+
+std::string fixed(double value, int digits = 4) {
+  if (std::isnan(value)) return "nan";
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.*f", digits, value);
+  return text;
+}
+
+double nonNegative(const ArgParser& parser, const std::string& name) {
+  const double value = parser.getDouble(name);
+  if (!(value >= 0) || !std::isfinite(value)) throw UsageError("traverse-eval: " + name + " must be >= 0");
+  return value;
+}
+
+Eigen::Vector3d parseVector(const std::string& text, const std::string& option) {
+  Eigen::Vector3d v;
+  char a = 0, b = 0;
+  std::istringstream in(text);
+  if (!(in >> v.x() >> a >> v.y() >> b >> v.z()) || a != ',' || b != ',' || !v.allFinite() || v.norm() == 0) {
+    throw UsageError("traverse-eval: " + option + " expects X,Y,Z (non-zero), got \"" + text + "\"");
+  }
+  return v.normalized();
+}
+
+std::string labelName(std::size_t label) {
+  return std::string(datasets::toString(static_cast<datasets::SurfaceLabel>(label)));
+}
+
+void reportAreas(std::ostream& out, const std::string& prefix, const evaluation::ClassAreas& areas) {
+  out << prefix << "_free_m2 " << fixed(areas.free_m2, 3) << '\n'
+      << prefix << "_lethal_m2 " << fixed(areas.lethal_m2, 3) << '\n'
+      << prefix << "_unknown_m2 " << fixed(areas.unknown_m2, 3) << '\n';
+}
+
+void reportRobot(std::ostream& out, const evaluation::RobotLimits& robot) {
+  out << "robot " << robot.name << '\n'
+      << "robot_footprint_radius_m " << fixed(robot.footprint_radius_m, 3) << '\n'
+      << "robot_max_slope_deg " << fixed(robot.max_slope_deg, 2) << '\n'
+      << "robot_max_step_m " << fixed(robot.max_step_m, 3) << '\n'
+      << "robot_height_m " << fixed(robot.height_m, 3) << '\n';
+}
+
+/// Why the map calls a face what it does: free, unknown, or the first of the profile's limits a
+/// lethal face exceeds (a diagnosis of false negatives; the map's own layers, not the truth).
+const char* const kGroupNames[] = {"free", "unknown", "slope", "step", "roughness", "contact", "clearance", "other"};
+
+std::vector<std::uint8_t> lethalCauses(const traversability::LayeredMesh& map,
+                                       const traversability::RobotProfile& profile) {
+  std::vector<std::uint8_t> groups;
+  groups.reserve(map.layers.size());
+  for (const traversability::FaceLayers& l : map.layers) {
+    std::uint8_t group = 7;
+    if (l.face_class == traversability::FaceClass::kFree) group = 0;
+    else if (l.face_class == traversability::FaceClass::kUnknown) group = 1;
+    else if (l.slope_deg > profile.max_slope_deg) group = 2;
+    else if (l.step_m > profile.max_step_m) group = 3;
+    else if (l.roughness_m > profile.max_roughness_m) group = 4;
+    else if (l.contact < profile.min_support) group = 5;
+    else if (l.clearance_m < profile.min_clearance_m) group = 6;
+    groups.push_back(group);
+  }
+  return groups;
+}
+
+/// The map against a labelled ground-truth mesh.
+void evaluateAgainstMesh(const ArgParser& parser, traversability::LayeredMesh map,
+                         const traversability::RobotProfile& profile, std::ostream& report) {
+  const evaluation::RobotLimits robot = evaluation::robotLimitsFrom(profile);
+  const std::string truth_path = parser.get("--gt-mesh");
+  const datasets::LabeledMesh truth = datasets::readLabeledPly(truth_path);
+  if (truth.mesh.faces.empty()) throw InputError(truth_path, "faces", "the ground truth has no faces");
+  if (parser.has("--sim3")) {
+    map.mesh = datasets::readSimilarityTransform(parser.get("--sim3")).apply(map.mesh);
+  } else if (std::abs(map.metres_per_unit - 1.0) > 1e-9) {
+    throw UsageError("traverse-eval: the map is not metric (metres_per_unit " + fixed(map.metres_per_unit, 6) +
+                     "); give --sim3 FILE to bring it into the truth's frame");
+  }
+  const Eigen::Vector3d up = parser.has("--gt-up") ? parseVector(parser.get("--gt-up"), "--gt-up")
+                                                  : evaluation::estimateUpFromSlopes(truth);
+  evaluation::GroundTruthConfig truth_config;
+  truth_config.max_edge_m = nonNegative(parser, "--gt-max-edge-m");
+  const evaluation::GroundTruthTraversability labelled =
+      evaluation::labelTraversability(truth, robot, up, truth_config);
+  evaluation::ScoreConfig config;
+  config.max_distance_m = nonNegative(parser, "--max-distance-m");
+  config.sample_edge_m = nonNegative(parser, "--sample-edge-m");
+  const evaluation::TraversabilityScore score =
+      evaluation::scoreTraversability(map, labelled, config, lethalCauses(map, profile));
+
+  report << "truth " << truth_path << '\n'
+         << "truth_faces " << truth.mesh.faces.size() << '\n'
+         << "truth_refined_faces " << labelled.mesh.mesh.faces.size() << '\n'
+         << "truth_up " << fixed(up.x(), 6) << ' ' << fixed(up.y(), 6) << ' ' << fixed(up.z(), 6) << '\n'
+         << "truth_traversable_m2 " << fixed(score.truth_traversable_m2, 3) << '\n';
+  const auto reason_areas = labelled.areaByReason();
+  for (std::size_t r = 0; r < evaluation::kTruthReasonCount; ++r) {
+    report << "truth_reason_" << evaluation::toString(static_cast<evaluation::TruthReason>(r)) << "_m2 "
+           << fixed(reason_areas[r], 3) << '\n';
+  }
+  report << "max_distance_m " << fixed(config.max_distance_m, 3) << '\n'
+         << "scored_m2 " << fixed(score.scored_m2, 3) << '\n'
+         << "ignored_far_m2 " << fixed(score.ignored_far_m2, 3) << '\n'
+         << "true_positive_m2 " << fixed(score.true_positive_m2, 3) << '\n'
+         << "false_positive_m2 " << fixed(score.false_positive_m2, 3) << '\n'
+         << "false_negative_m2 " << fixed(score.false_negative_m2, 3) << '\n'
+         << "true_negative_m2 " << fixed(score.true_negative_m2, 3) << '\n'
+         << "unknown_m2 " << fixed(score.unknown_m2, 3) << '\n'
+         << "precision " << fixed(score.precision) << '\n'
+         << "recall " << fixed(score.recall) << '\n'
+         << "f1 " << fixed(score.f1) << '\n'
+         << "coverage " << fixed(score.coverage) << '\n'
+         << "unknown_fraction " << fixed(score.unknown_fraction) << '\n';
+  reportAreas(report, "truth_traversable", score.by_truth[1]);
+  reportAreas(report, "truth_not_traversable", score.by_truth[0]);
+  for (std::size_t label = 0; label < score.by_label.size(); ++label) {
+    if (score.by_label[label].total() > 0) reportAreas(report, "label_" + labelName(label), score.by_label[label]);
+  }
+  for (std::size_t label = 0; label < score.by_label.size(); ++label) {
+    for (const int answer : {1, 0}) {
+      const evaluation::ClassAreas& areas = score.by_label_and_truth[label][answer];
+      if (areas.total() <= 0) continue;
+      reportAreas(report, "label_" + labelName(label) + (answer ? "_traversable" : "_not_traversable"), areas);
+    }
+  }
+  // False negatives (truth traversable, map lethal) and true negatives by the map's cause.
+  for (std::size_t g = 2; g < score.by_group.size(); ++g) {
+    report << "false_negative_by_map_" << kGroupNames[g] << "_m2 " << fixed(score.by_group[g][1].lethal_m2, 3) << '\n';
+  }
+  for (std::size_t g = 2; g < score.by_group.size(); ++g) {
+    report << "true_negative_by_map_" << kGroupNames[g] << "_m2 " << fixed(score.by_group[g][0].lethal_m2, 3) << '\n';
+  }
+  for (std::size_t r = 0; r < score.by_reason.size(); ++r) {
+    if (score.by_reason[r].total() <= 0) continue;
+    reportAreas(report, "reason_" + std::string(evaluation::toString(static_cast<evaluation::TruthReason>(r))),
+                score.by_reason[r]);
+  }
+}
+
+/// The keyframe centres and rotations of a stream, by keyframe id (the last pose sent for each;
+/// removed keyframes dropped).
+void keyframePath(const datasets::SlamStream& stream, std::vector<Eigen::Vector3d>& positions,
+                  std::vector<Eigen::Quaterniond>& rotations) {
+  std::map<mesher::KeyframeId, const mesher::Keyframe*> latest;
+  for (const datasets::StreamEvent& event : stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) latest[keyframe->id] = keyframe;
+    if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) latest.erase(removal->keyframe);
+  }
+  for (const auto& [id, keyframe] : latest) {
+    positions.push_back(keyframe->position_W_C);
+    rotations.push_back(keyframe->rotation_W_C);
+  }
+}
+
+/// The map's classes on the road under the camera path (real data).
+void evaluateRoadUnderPath(const ArgParser& parser, const traversability::LayeredMesh& map, std::ostream& report) {
+  const std::string stream_path = parser.get("--road-under-path");
+  const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Quaterniond> rotations;
+  keyframePath(stream, positions, rotations);
+  if (positions.size() < 2) throw InputError(stream_path, "keyframes", "at least 2 keyframes are needed for a path");
+  const Eigen::Vector3d up = evaluation::upFromCameraRotations(rotations);
+  evaluation::RoadUnderPathConfig config;
+  config.camera_height_m = nonNegative(parser, "--camera-height-m");
+  config.lateral_m = nonNegative(parser, "--lateral-m");
+  config.height_tolerance_m = nonNegative(parser, "--height-tolerance-m");
+  config.sample_edge_m = nonNegative(parser, "--sample-edge-m");
+  const evaluation::RoadUnderPath road = evaluation::roadUnderPath(map, positions, up, config);
+  report << "path " << stream_path << '\n'
+         << "path_keyframes " << positions.size() << '\n'
+         << "path_length_m " << fixed(road.path_length_m, 2) << '\n'
+         << "path_up " << fixed(up.x(), 6) << ' ' << fixed(up.y(), 6) << ' ' << fixed(up.z(), 6) << '\n'
+         << "metres_per_unit " << fixed(map.metres_per_unit, 6) << '\n'
+         << "camera_height_m " << fixed(config.camera_height_m, 3) << '\n'
+         << "lateral_m " << fixed(config.lateral_m, 3) << '\n'
+         << "height_tolerance_m " << fixed(config.height_tolerance_m, 3) << '\n';
+  reportAreas(report, "road", road.areas);
+  report << "road_free_fraction " << fixed(road.free_fraction) << '\n'
+         << "road_lethal_fraction " << fixed(road.lethal_fraction) << '\n'
+         << "road_unknown_fraction " << fixed(road.unknown_fraction) << '\n';
+}
+
+}  // namespace
+
+int runTraverseEval(const std::vector<std::string>& args) {
+  ArgParser parser("traverse-eval");
+  declareOptions(parser);
+  parser.parse(args);
+  if (parser.helpRequested()) {
+    std::cout << parser.usage()
+              << "\nWith --gt-mesh: every face of the truth is judged traversable or not for the map's robot "
+                 "(robot.yaml) from the truth alone: a ground label (road, sidewalk, ramp, vegetation; curbs "
+                 "only within the robot's step), true slope <= max slope, nothing rising more than the max step "
+                 "(below the robot's height) within the footprint radius, clearance >= the robot's height. "
+                 "Map pieces within --max-distance-m of the truth take the answer of the nearest truth face; "
+                 "known pieces give area-weighted precision, recall and F1 of free vs traversable; coverage is "
+                 "the truth's traversable area with a known map face within --max-distance-m.\n"
+                 "With --road-under-path: the free / lethal / unknown shares of the map surface within "
+                 "--lateral-m of the keyframe path and --camera-height-m below it (metres via the map's "
+                 "metres_per_unit; up from the keyframes' orientations).\n";
+    return kExitOk;
+  }
+  const bool truth_mode = parser.has("--gt-mesh");
+  if (truth_mode == parser.has("--road-under-path")) {
+    throw UsageError("traverse-eval: give exactly one of --gt-mesh and --road-under-path");
+  }
+  const std::filesystem::path dir = parser.positionalValue("MAP_DIR");
+  traversability::MapDirectory loaded = traversability::readMapDirectory(dir);
+  const evaluation::RobotLimits robot = evaluation::robotLimitsFrom(loaded.profile);
+
+  std::ostringstream report;
+  report << "map " << dir.string() << '\n' << "map_faces " << loaded.map.mesh.faces.size() << '\n';
+  reportRobot(report, robot);
+  if (truth_mode) {
+    evaluateAgainstMesh(parser, std::move(loaded.map), loaded.profile, report);
+  } else {
+    evaluateRoadUnderPath(parser, loaded.map, report);
+  }
+  if (parser.has("--report")) writeFileAtomically(parser.get("--report"), report.str());
+  if (!parser.flagSet("--quiet")) std::cout << report.str();
+  return kExitOk;
+}
+
+}  // namespace terramesh::cli

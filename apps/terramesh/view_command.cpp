@@ -1,0 +1,138 @@
+// terramesh view OUTDIR: serves a run folder and the bundled web viewer on 127.0.0.1.
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_args.h"
+#include "commands.h"
+#include "common/input_error.h"
+#include "datasets/stream_reader.h"
+#include "run_extras.h"
+#include "view_server.h"
+
+#ifndef TERRAMESH_VIEWER_BUILD_DIR
+#define TERRAMESH_VIEWER_BUILD_DIR ""
+#endif
+#ifndef TERRAMESH_VIEWER_INSTALL_SUBDIR
+#define TERRAMESH_VIEWER_INSTALL_SUBDIR "share/terramesh/viewer"
+#endif
+
+namespace terramesh::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// --bundle, else the installed bundle beside the executable (bin/../share/...), else the build
+/// tree's. Empty if none holds index.html.
+fs::path findBundle(const ArgParser& parser) {
+  if (parser.has("--bundle")) {
+    const fs::path dir = parser.get("--bundle");
+    if (!fs::is_regular_file(dir / "index.html")) throw InputError(dir.string(), "index.html", "missing (expected a viewer bundle: build/viewer/dist)");
+    return dir;
+  }
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const fs::path installed = exe.parent_path().parent_path() / TERRAMESH_VIEWER_INSTALL_SUBDIR;
+    if (fs::is_regular_file(installed / "index.html")) return installed;
+  }
+  const fs::path built = TERRAMESH_VIEWER_BUILD_DIR;
+  if (!built.empty() && fs::is_regular_file(built / "index.html")) return built;
+  return {};
+}
+
+/// The stream named by --stream, else by summary.txt's "input:" line if that path exists.
+fs::path findStream(const ArgParser& parser, const fs::path& run_dir) {
+  if (parser.has("--stream")) return parser.get("--stream");
+  std::ifstream summary(run_dir / "summary.txt");
+  std::string line;
+  while (std::getline(summary, line)) {
+    if (line.rfind("input: ", 0) != 0) continue;
+    const fs::path input = line.substr(7);
+    std::error_code error;
+    if (fs::exists(input, error)) return input;
+  }
+  return {};
+}
+
+/// The first OctoMap file of the run folder's top level (sorted by name), if any.
+fs::path findOctomap(const fs::path& run_dir) {
+  std::vector<fs::path> found;
+  for (const auto& entry : fs::directory_iterator(run_dir)) {
+    const std::string ext = entry.path().extension().string();
+    if (entry.is_regular_file() && (ext == ".bt" || ext == ".ot")) found.push_back(entry.path());
+  }
+  std::sort(found.begin(), found.end());
+  return found.empty() ? fs::path() : found.front();
+}
+
+}  // namespace
+
+int runView(const std::vector<std::string>& args) {
+  ArgParser parser("view");
+  parser.positional("OUTDIR", "a run folder of `terramesh mesh` (mesh.ply; traversability.ply, snapshots/, "
+                              "path*.csv, voxels.bin or *.bt when present)")
+      .option("--port", "N", "TCP port on 127.0.0.1 (0: any free port)", "8765")
+      .option("--stream", "FILE",
+              "the run's SLAM stream, for the trajectory and points when OUTDIR has no trajectory.csv / "
+              "points.ply (default: summary.txt's input, if it exists)")
+      .option("--bundle", "DIR", "the viewer bundle (default: the installed one, else the build tree's)")
+      .flag("--open", "also open the page with xdg-open (off by default: headless machines)");
+  parser.parse(args);
+  if (parser.helpRequested()) {
+    std::cout << parser.usage();
+    return kExitOk;
+  }
+  const long port = parser.getInt("--port");
+  if (port < 0 || port > 65535) throw UsageError("view: --port must be in 0..65535");
+  ViewServerConfig config;
+  config.run_dir = parser.positionalValue("OUTDIR");
+  config.port = static_cast<int>(port);
+  if (!fs::is_directory(config.run_dir)) throw InputError(config.run_dir.string(), "OUTDIR", "not a directory (expected a run folder of terramesh mesh)");
+  if (!fs::is_regular_file(config.run_dir / "mesh.ply")) {
+    throw InputError((config.run_dir / "mesh.ply").string(), "file", "missing (expected the run's mesh: terramesh mesh STREAM -o OUTDIR)");
+  }
+  config.bundle_dir = findBundle(parser);
+  if (config.bundle_dir.empty()) {
+    std::cerr << "terramesh view: no viewer bundle found (configured with TERRAMESH_BUILD_VIEWER=OFF, or npm was "
+                 "missing at build time); pass --bundle DIR\n";
+    return kExitFailure;
+  }
+
+  RunExtras extras;
+  const bool has_trajectory = fs::is_regular_file(config.run_dir / "trajectory.csv");
+  const bool has_points = fs::is_regular_file(config.run_dir / "points.ply");
+  if (!has_trajectory || !has_points) {
+    const fs::path stream_path = findStream(parser, config.run_dir);
+    if (!stream_path.empty()) {
+      const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
+      if (!has_trajectory) extras.trajectory_csv = trajectoryCsv(stream);
+      if (!has_points) extras.points_ply = pointsPly(stream);
+    }
+  }
+  if (!fs::is_regular_file(config.run_dir / "voxels.bin")) {
+    const fs::path octomap_file = findOctomap(config.run_dir);
+    if (!octomap_file.empty()) {
+      extras.voxels_bin = octomapToVoxels(octomap_file);
+      extras.voxels_source = octomap_file.filename().string();
+    }
+  }
+
+  const bool open = parser.flagSet("--open");
+  serveRun(config, extras, [&](int bound_port) {
+    const std::string url = "http://127.0.0.1:" + std::to_string(bound_port) + "/";
+    std::cout << "terramesh view: serving " << config.run_dir.string() << " at " << url << "  (Ctrl-C to stop)"
+              << std::endl;
+    if (open) {
+      const std::string command = "xdg-open " + url + " >/dev/null 2>&1 &";
+      if (std::system(command.c_str()) != 0) std::cerr << "terramesh view: xdg-open failed; open " << url << '\n';
+    }
+  });
+  return kExitOk;
+}
+
+}  // namespace terramesh::cli

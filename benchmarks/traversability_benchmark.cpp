@@ -1,0 +1,242 @@
+// Google Benchmark of terramesh::traversability on a generated KITTI-like street stream: the
+// per-keyframe layer update (TraversabilityMap::apply of Mesher::changesSince) while meshing, its
+// ratio to a full recomputation of the same map, and the faces per second of a full computation.
+// Meshing and stream generation are excluded from the timings. Streams: the built-in 200 m street,
+// plus the stream files listed in TERRAMESH_TRAV_STREAMS (':'-separated, e.g. DIR/stream.tmstream
+// of `terramesh generate`). Counters: update median/p99 (wall and thread CPU), ratio to a full
+// recomputation, delta faces and real changes (churn netted out) per keyframe, full faces/s.
+#include <benchmark/benchmark.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <cstdlib>
+#include <memory>
+#include <sstream>
+#include <variant>
+
+#include "datasets/slam_simulation.h"
+#include "datasets/stream_reader.h"
+#include "datasets/synthetic_scene.h"
+#include "datasets/triangle_bvh.h"
+#include "mesher/mesher.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::traversability {
+namespace {
+
+const std::filesystem::path kRobots = std::filesystem::path(TERRAMESH_SOURCE_DIR) / "traversability" / "robots";
+
+std::string describeMachine() {
+  std::string model = "unknown CPU";
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  std::ostringstream out;
+  out << model << ", " << ::sysconf(_SC_NPROCESSORS_ONLN) << " cores online";
+  return out.str();
+}
+
+/// A SLAM stream to mesh and the map's up direction.
+struct BenchStream {
+  std::string name;
+  datasets::SlamStream stream;
+  Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
+};
+
+/// The KITTI-like stream (issue 3's benchmark density) along a procedural 200 m street.
+BenchStream builtinStreet() {
+  datasets::StreetSceneConfig config;
+  config.length_m = 200.0;
+  const datasets::SyntheticScene scene = datasets::buildStreetScene(config);
+  const datasets::TriangleBvh bvh(scene.ground_truth.mesh);
+  BenchStream s;
+  s.name = "street200";
+  s.stream = datasets::simulateSlam(scene, bvh, datasets::kittiLikeSlamConfig()).stream;
+  s.up_W = scene.up_W;
+  return s;
+}
+
+/// A stream file (e.g. DIR/stream.tmstream of `terramesh generate`); up is read from the
+/// `up_W x y z` line of DIR/generation.txt if there is one, else estimated from the cameras.
+BenchStream fileStream(const std::filesystem::path& path) {
+  BenchStream s;
+  s.name = path.parent_path().filename().string();
+  if (s.name.empty()) s.name = path.stem().string();
+  s.stream = datasets::readAnyStream(path);
+  std::ifstream generation(path.parent_path() / "generation.txt");
+  for (std::string line; std::getline(generation, line);) {
+    std::istringstream in(line);
+    std::string key;
+    double x = 0, y = 0, z = 0;
+    if (in >> key && key == "up_W" && in >> x >> y >> z) {
+      s.up_W = Eigen::Vector3d(x, y, z).normalized();
+      return s;
+    }
+  }
+  std::vector<Eigen::Matrix3d> rotations;
+  for (const datasets::StreamEvent& event : s.stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+      rotations.push_back(keyframe->rotation_W_C.toRotationMatrix());
+    }
+  }
+  s.up_W = estimateUpFromCameras(rotations);
+  return s;
+}
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t i = static_cast<std::size_t>(std::lround(q * static_cast<double>(values.size() - 1)));
+  return values[i];
+}
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+/// CPU time of this thread: robust to other processes sharing the cores.
+double threadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Meshes the whole stream; after every keyframe applies the delta to the layers (timed); every
+/// `full_every` keyframes also recomputes the whole map from the mesher's faces (timed).
+void BM_LayersWhileMeshing(benchmark::State& state, const BenchStream* s, const std::string& robot) {
+  const RobotProfile profile = loadRobotProfile(kRobots / (robot + ".yaml"));
+  MapFrame frame;
+  frame.up_W = s->up_W;
+  const int full_every = 5;
+  std::vector<double> delta_sizes, incremental_s, full_s, ratio, faces_per_s;
+  std::vector<double> incremental_cpu_s, full_cpu_s, ratio_cpu, faces_per_cpu_s;
+  std::size_t recomputed = 0, updates = 0, faces_end = 0, delta_faces = 0, real_faces = 0;
+  for (auto _ : state) {
+    mesher::Mesher mesher{mesher::MesherConfig{}};
+    TraversabilityMap map(profile, frame);
+    int keyframes = 0;
+    for (const datasets::StreamEvent& event : s->stream.events) {
+      const std::uint64_t revision = mesher.revision();
+      datasets::applyEvent(mesher, event);
+      if (!std::holds_alternative<mesher::Keyframe>(event)) continue;
+      const mesher::SurfaceDelta delta = mesher.changesSince(revision);
+      const std::vector<mesher::SurfaceFace> around = mesher.facesAround(delta.touched_vertices);
+      const auto start = std::chrono::steady_clock::now();
+      const double cpu_start = threadCpuSeconds();
+      const LayerUpdateStats stats = map.apply(delta, around);
+      const double t = seconds(start), cpu = threadCpuSeconds() - cpu_start;
+      incremental_s.push_back(t);
+      incremental_cpu_s.push_back(cpu);
+      delta_faces += delta.added.size() + delta.removed.size();
+      delta_sizes.push_back(static_cast<double>(delta.added.size() + delta.removed.size()));
+      real_faces += stats.faces_added + stats.faces_removed - 2 * stats.faces_readded_unchanged;
+      recomputed += stats.faces_recomputed;
+      ++updates;
+      if (++keyframes % full_every == 0) {
+        const std::vector<mesher::SurfaceFace> faces = mesher.surfaceFaces();
+        TraversabilityMap fresh(profile, frame);
+        const auto full_start = std::chrono::steady_clock::now();
+        const double full_cpu_start = threadCpuSeconds();
+        fresh.reset(faces);
+        const double full = seconds(full_start), full_cpu = threadCpuSeconds() - full_cpu_start;
+        full_s.push_back(full);
+        full_cpu_s.push_back(full_cpu);
+        ratio.push_back(t / full);
+        ratio_cpu.push_back(cpu / full_cpu);
+        faces_per_s.push_back(static_cast<double>(faces.size()) / full);
+        faces_per_cpu_s.push_back(static_cast<double>(faces.size()) / full_cpu);
+      }
+      faces_end = map.faceCount();
+    }
+  }
+  state.counters["keyframes"] = static_cast<double>(updates) / static_cast<double>(state.iterations());
+  state.counters["faces_end"] = static_cast<double>(faces_end);
+  state.counters["update_median_ms"] = 1e3 * percentile(incremental_s, 0.5);
+  state.counters["update_p99_ms"] = 1e3 * percentile(incremental_s, 0.99);
+  state.counters["update_cpu_median_ms"] = 1e3 * percentile(incremental_cpu_s, 0.5);
+  state.counters["update_cpu_p99_ms"] = 1e3 * percentile(incremental_cpu_s, 0.99);
+  state.counters["full_cpu_median_ms"] = 1e3 * percentile(full_cpu_s, 0.5);
+  state.counters["update_over_full_cpu_median"] = percentile(ratio_cpu, 0.5);
+  state.counters["delta_faces_per_update"] = static_cast<double>(delta_faces) / static_cast<double>(updates);
+  state.counters["real_changed_faces_per_update"] = static_cast<double>(real_faces) / static_cast<double>(updates);
+  state.counters["faces_recomputed_per_update"] = static_cast<double>(recomputed) / static_cast<double>(updates);
+  state.counters["full_median_ms"] = 1e3 * percentile(full_s, 0.5);
+  state.counters["update_over_full_median"] = percentile(ratio, 0.5);
+  state.counters["full_faces_per_s"] = percentile(faces_per_s, 0.5);
+  state.counters["full_faces_per_cpu_s"] = percentile(faces_per_cpu_s, 0.5);
+  // Whether the slow updates are the big deltas: the delta of the slowest update (CPU time).
+  if (!incremental_cpu_s.empty()) {
+    const auto slowest =
+        std::max_element(incremental_cpu_s.begin(), incremental_cpu_s.end()) - incremental_cpu_s.begin();
+    state.counters["slowest_update_delta_faces"] = delta_sizes[static_cast<std::size_t>(slowest)];
+    state.counters["delta_faces_median"] = percentile(delta_sizes, 0.5);
+    state.counters["delta_faces_max"] = percentile(delta_sizes, 1.0);
+  }
+}
+
+/// Full computation of the final street map (faces per second), setup excluded.
+void BM_FullComputation(benchmark::State& state, const BenchStream* s, const std::string& robot) {
+  const RobotProfile profile = loadRobotProfile(kRobots / (robot + ".yaml"));
+  MapFrame frame;
+  frame.up_W = s->up_W;
+  mesher::Mesher mesher{mesher::MesherConfig{}};
+  for (const datasets::StreamEvent& event : s->stream.events) datasets::applyEvent(mesher, event);
+  const std::vector<mesher::SurfaceFace> faces = mesher.surfaceFaces();
+  for (auto _ : state) {
+    TraversabilityMap map(profile, frame);
+    map.reset(faces);
+    benchmark::DoNotOptimize(map.faceCount());
+  }
+  state.counters["faces"] = static_cast<double>(faces.size());
+  state.counters["faces_per_s"] =
+      benchmark::Counter(static_cast<double>(faces.size()) * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
+}
+
+/// Registers the benchmarks of one stream.
+void registerStream(const BenchStream* s, const std::vector<std::string>& robots) {
+  for (const std::string& robot : robots) {
+    benchmark::RegisterBenchmark(("BM_LayersWhileMeshing/" + s->name + "/" + robot).c_str(), BM_LayersWhileMeshing, s,
+                                 robot)
+        ->Iterations(1)
+        ->Unit(benchmark::kSecond);
+  }
+  for (const std::string& robot : robots) {
+    benchmark::RegisterBenchmark(("BM_FullComputation/" + s->name + "/" + robot).c_str(), BM_FullComputation, s, robot)
+        ->Unit(benchmark::kMillisecond);
+  }
+}
+
+}  // namespace
+}  // namespace terramesh::traversability
+
+/// Streams: the built-in 200 m street (small_wheeled and car), plus every stream file listed in
+/// the environment variable TERRAMESH_TRAV_STREAMS (separated by ':'; small_wheeled only).
+int main(int argc, char** argv) {
+  using terramesh::traversability::BenchStream;
+  benchmark::AddCustomContext("machine", terramesh::traversability::describeMachine());
+  benchmark::Initialize(&argc, argv);
+  std::vector<std::unique_ptr<BenchStream>> streams;
+  streams.push_back(std::make_unique<BenchStream>(terramesh::traversability::builtinStreet()));
+  terramesh::traversability::registerStream(streams.back().get(), {"small_wheeled", "car"});
+  if (const char* list = std::getenv("TERRAMESH_TRAV_STREAMS")) {
+    std::istringstream in(list);
+    for (std::string path; std::getline(in, path, ':');) {
+      if (path.empty()) continue;
+      streams.push_back(std::make_unique<BenchStream>(terramesh::traversability::fileStream(path)));
+      benchmark::AddCustomContext("stream " + streams.back()->name, path);
+      terramesh::traversability::registerStream(streams.back().get(), {"small_wheeled"});
+    }
+  }
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,54 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "evaluation/traversability_score.h"
+#include "traversability/layered_mesh.h"
+
+namespace terramesh::evaluation {
+
+/// Where the road under a driven camera path is looked for (real data with no labelled truth:
+/// the road the camera's car drove on must be traversable).
+struct RoadUnderPathConfig {
+  /// Map surface within this horizontal distance of the camera path counts, in metres.
+  double lateral_m = 1.5;
+  /// The road lies this far below the camera (KITTI: 1.65 m).
+  double camera_height_m = 1.65;
+  /// ... give or take this much, in metres.
+  double height_tolerance_m = 0.5;
+  /// Map faces are split until no edge is longer than this (metres), each piece judged at its
+  /// centroid; 0: whole faces.
+  double sample_edge_m = 0.25;
+  /// @throw std::invalid_argument listing every out-of-range field.
+  void validate() const;
+};
+
+/// The map's classes on the road under the camera path.
+struct RoadUnderPath {
+  /// Area (m^2) of the map pieces under the path, per predicted class.
+  ClassAreas areas;
+  /// Each class's share of areas.total() (NaN if nothing lies under the path).
+  double free_fraction = 0;
+  double lethal_fraction = 0;
+  double unknown_fraction = 0;
+  /// Length of the path, in metres.
+  double path_length_m = 0;
+};
+
+/// "Up" from camera orientations (OpenCV/KITTI cameras: y points down in the image): the
+/// normalised mean of the cameras' -y axes in the world frame.
+/// @throw std::invalid_argument if there are no rotations or they cancel out.
+Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rotations_W_C);
+
+/// Classes of the map surface under the polyline `path_W` (camera centres in driving order, in
+/// the map's units and frame): pieces whose centroid is within lateral_m horizontally of the
+/// polyline and between camera_height_m -/+ height_tolerance_m below the nearest path point.
+/// Distances are converted to metres with map.metres_per_unit; "up" is `up_W`.
+/// @throw std::invalid_argument if the config does not validate, the path has fewer than 2
+///        points, `up_W` is zero, or the map has not one layer per face.
+RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
+                            const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config);
+
+}  // namespace terramesh::evaluation

@@ -1,0 +1,137 @@
+// Mesher::Impl's surface queries: revisions, deltas and the faces with their observation counts.
+#include <algorithm>
+#include <cassert>
+#include <stdexcept>
+#include <string>
+
+#include "mesher_impl.h"
+
+namespace terramesh::mesher {
+
+using internal::CellHandle;
+using internal::Delaunay;
+using internal::VertexHandle;
+
+namespace {
+
+void sortByKey(std::vector<SurfaceFace>& faces) {
+  std::sort(faces.begin(), faces.end(),
+            [](const SurfaceFace& a, const SurfaceFace& b) { return a.key < b.key; });
+}
+
+}  // namespace
+
+SurfaceFace Mesher::Impl::makeFace(const CellHandle& front, int facet) const {
+  assert(front->info().outside() && !front->neighbor(facet)->info().outside());
+  std::array<VertexHandle, 3> vertices;
+  std::array<VertexKey, 3> keys;
+  for (int k = 0; k < 3; ++k) {
+    const auto slot = static_cast<std::size_t>(k);
+    vertices[slot] = front->vertex(Delaunay::vertex_triple_index(facet, k));
+    keys[slot] = state_.outside.vertexKey(vertices[slot]);
+  }
+  // Start at the smallest key, keeping the winding: equal faces give equal records.
+  const auto first = static_cast<std::size_t>(std::min_element(keys.begin(), keys.end()) - keys.begin());
+  SurfaceFace face;
+  face.rays = front->info().crossings;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const VertexHandle& v = vertices[(first + k) % 3];
+    face.vertices[k] = keys[(first + k) % 3];
+    face.positions_W[k] = internal::toEigen(v->point());
+    face.touches_steiner = face.touches_steiner || v->info().steiner;
+    if (v->info().point != internal::kNone) {
+      face.rays += static_cast<std::uint32_t>(state_.registry.point(v->info().point).rays.size());
+    }
+  }
+  face.key = FaceKey::of(keys[0], keys[1], keys[2]);
+  return face;
+}
+
+VertexHandle Mesher::Impl::vertexOf(const VertexKey& key) const {
+  if (key.steiner) {
+    const auto it = state_.steiner_nodes.find(key.value);
+    return it == state_.steiner_nodes.end() ? VertexHandle() : it->second;
+  }
+  const std::uint32_t index = state_.registry.findPoint(PointId{key.value});
+  return index == internal::kNone ? VertexHandle() : state_.registry.point(index).vertex;
+}
+
+SurfaceDelta Mesher::Impl::changesSince(std::uint64_t revision) const {
+  const internal::SurfaceLog& log = state_.surface_log;
+  if (revision > log.revision()) {
+    throw std::invalid_argument("changesSince: revision " + std::to_string(revision) +
+                                " is newer than the current revision " +
+                                std::to_string(log.revision()));
+  }
+  SurfaceDelta delta;
+  delta.from_revision = revision;
+  delta.to_revision = log.revision();
+  if (revision < log.oldestRevision()) {
+    delta.complete = false;
+    return delta;
+  }
+  internal::SurfaceLog::Changes changes = log.since(revision);
+  delta.removed = std::move(changes.removed);
+  delta.touched_vertices = std::move(changes.touched);
+  delta.added.reserve(changes.added.size());
+  for (const internal::WoundFace& wound : changes.added) {
+    const VertexHandle a = vertexOf(wound[0]);
+    const VertexHandle b = vertexOf(wound[1]);
+    const VertexHandle c = vertexOf(wound[2]);
+    CellHandle cell;
+    int i = 0;
+    int j = 0;
+    int k = 0;
+    const bool found = a != VertexHandle() && b != VertexHandle() && c != VertexHandle() &&
+                       state_.tri.is_facet(a, b, c, cell, i, j, k);
+    assert(found);  // an added face exists now
+    if (!found) continue;
+    int facet = 6 - i - j - k;
+    if (!cell->info().outside()) {
+      const CellHandle other = cell->neighbor(facet);
+      facet = other->index(cell);
+      cell = other;
+    }
+    delta.added.push_back(makeFace(cell, facet));
+    assert(delta.added.back().vertices == internal::canonicalRotation(wound));
+  }
+  sortByKey(delta.added);
+  return delta;
+}
+
+std::vector<SurfaceFace> Mesher::Impl::surfaceFaces() const {
+  std::vector<SurfaceFace> faces;
+  for (auto cell = state_.tri.finite_cells_begin(); cell != state_.tri.finite_cells_end(); ++cell) {
+    if (!cell->info().outside()) continue;
+    for (int i = 0; i < 4; ++i) {
+      if (!cell->neighbor(i)->info().outside()) faces.push_back(makeFace(cell, i));
+    }
+  }
+  sortByKey(faces);
+  return faces;
+}
+
+std::vector<SurfaceFace> Mesher::Impl::facesAround(const std::vector<VertexKey>& vertices) const {
+  std::vector<SurfaceFace> faces;
+  std::vector<CellHandle> star;
+  for (const VertexKey& key : vertices) {
+    const VertexHandle v = vertexOf(key);
+    if (v == VertexHandle() || v->info().outside_cells == 0) continue;
+    star.clear();
+    state_.tri.incident_cells(v, std::back_inserter(star));
+    for (const CellHandle& cell : star) {
+      if (!cell->info().outside()) continue;
+      const int own = cell->index(v);
+      for (int i = 0; i < 4; ++i) {
+        if (i != own && !cell->neighbor(i)->info().outside()) faces.push_back(makeFace(cell, i));
+      }
+    }
+  }
+  sortByKey(faces);
+  faces.erase(std::unique(faces.begin(), faces.end(),
+                          [](const SurfaceFace& a, const SurfaceFace& b) { return a.key == b.key; }),
+              faces.end());
+  return faces;
+}
+
+}  // namespace terramesh::mesher

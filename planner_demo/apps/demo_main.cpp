@@ -1,0 +1,224 @@
+// planner_demo SCENE_DIR MAP_DIR OUT_DIR: the mesh against an OctoMap built from the same SLAM
+// stream, on the same start/goal pairs, judged against the synthetic scene's ground truth.
+//   SCENE_DIR: written by `terramesh generate` (stream.tmstream, ground_truth.ply)
+//   MAP_DIR:   written by `terramesh traverse` on the mesh of that stream
+// Writes OUT_DIR/octomap.bt, mesh.log and octomap.log (OMPL benchmark logs, map_type as an
+// experiment parameter), pairs.csv and comparison.md.
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <variant>
+
+#include "common/atomic_file.h"
+#include "datasets/labeled_mesh.h"
+#include "datasets/stream_reader.h"
+#include "datasets/triangle_bvh.h"
+#include "ground_truth_check.h"
+#include "planning/face_graph.h"
+#include "planning/grid_planner.h"
+#include "planning/octomap_baseline.h"
+#include "planning/ompl_benchmark_log.h"
+#include "planning/surface_planner.h"
+#include "traversability/map_directory.h"
+
+namespace {
+
+using namespace terramesh;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::filesystem::path scene, map, out;
+  std::size_t pairs = 10;
+  std::string planner = "bitstar";
+  double time_budget_s = 1.0;
+  double resolution_m = 0.2;
+  std::uint32_t seed = 1;
+};
+
+Options parse(int argc, char** argv) {
+  Options options;
+  std::vector<std::string> positional;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "--pairs") options.pairs = std::stoul(value());
+    else if (arg == "--planner") options.planner = value();
+    else if (arg == "--time-budget-s") options.time_budget_s = std::stod(value());
+    else if (arg == "--resolution-m") options.resolution_m = std::stod(value());
+    else if (arg == "--seed") options.seed = static_cast<std::uint32_t>(std::stoul(value()));
+    else if (arg.rfind("--", 0) == 0) throw std::invalid_argument("unknown option " + arg);
+    else positional.push_back(arg);
+  }
+  if (positional.size() != 3) {
+    throw std::invalid_argument(
+        "usage: planner_demo SCENE_DIR MAP_DIR OUT_DIR [--pairs N] [--planner NAME] [--time-budget-s T] "
+        "[--resolution-m R] [--seed S]");
+  }
+  options.scene = positional[0];
+  options.map = positional[1];
+  options.out = positional[2];
+  return options;
+}
+
+/// Per map type: the runs for the benchmark log and the totals for the table.
+struct Tally {
+  planning::BenchmarkPlannerRuns runs;
+  std::size_t solved = 0, truth_valid = 0;
+  double length = 0, cost = 0, time = 0;
+  void add(bool ok, double length_m, double path_cost, double time_s, bool valid) {
+    const double nan = std::nan("");
+    runs.runs.push_back({time_s, ok ? 1.0 : 0.0, ok ? length_m : nan, ok ? path_cost : nan, ok ? (valid ? 1.0 : 0.0) : nan});
+    time += time_s;
+    if (!ok) return;
+    ++solved;
+    truth_valid += valid ? 1 : 0;
+    length += length_m;
+    cost += path_cost;
+  }
+};
+
+int run(const Options& options) {
+  planning::setOmplLogging(false);
+  planning::seedOmpl(options.seed);
+  std::filesystem::create_directories(options.out);
+
+  const traversability::MapDirectory map = traversability::readMapDirectory(options.map);
+  planning::WalkabilityConfig walkability;
+  walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
+  const auto graph_started = Clock::now();
+  const planning::FaceGraph graph(map.map, walkability);
+  const double graph_time = std::chrono::duration<double>(Clock::now() - graph_started).count();
+  const std::size_t mesh_bytes = map.map.mesh.vertices.size() * sizeof(Eigen::Vector3d) +
+                                 map.map.mesh.faces.size() * (sizeof(std::array<std::uint32_t, 3>) + sizeof(traversability::FaceLayers));
+
+  const datasets::SlamStream stream = datasets::readAnyStream(options.scene / "stream.tmstream");
+  planning::OctomapConfig octomap_config;
+  octomap_config.resolution_m = options.resolution_m;
+  octomap_config.metres_per_unit = map.map.metres_per_unit;
+  octomap_config.up_W = map.map.up_W;
+  planning::OctomapBaseline octomap(octomap_config);
+  for (const datasets::StreamEvent& event : stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) octomap.insertKeyframe(*keyframe);
+  }
+  octomap.writeBinary(options.out / "octomap.bt");
+  planning::GridRobotConfig robot;
+  robot.max_step_m = map.profile.max_step_m;
+  robot.max_slope_deg = map.profile.max_slope_deg;
+  robot.min_clearance_m = map.profile.min_clearance_m;
+  robot.footprint_radius_m = map.profile.inscribed_radius_m;
+  robot.cost_weight = walkability.cost_weight;
+  const auto grid_started = Clock::now();
+  const planning::HeightGrid grid = octomap.heightGrid(robot);
+  const double grid_time = std::chrono::duration<double>(Clock::now() - grid_started).count();
+  const planning::OctomapStats octo = octomap.stats();
+
+  const datasets::LabeledMesh truth = datasets::readLabeledPly(options.scene / "ground_truth.ply");
+  const datasets::TriangleBvh bvh(truth.mesh);
+
+  planning::PlannerConfig config;
+  config.planner = options.planner;
+  config.time_budget_s = options.time_budget_s;
+  config.seed = options.seed;
+  config.validate();
+  const auto pairs = planning::drawRandomPairs(graph, options.pairs, options.seed, 5.0);
+  const std::vector<std::string> properties = {"time REAL", "solved BOOLEAN", "surface length REAL", "path cost REAL",
+                                               "valid against ground truth BOOLEAN"};
+  Tally mesh{{"geometric_" + options.planner, properties, {}}}, voxels{{"geometric_" + options.planner, properties, {}}};
+  Tally graph_tally{{"graph_astar", properties, {}}};
+  std::ostringstream csv;
+  csv << "pair,map,status,length_m,cost,time_s,truth_valid,truth_reason\n";
+  auto row = [&](std::size_t i, const char* type, planning::PlanStatus status, double length, double cost, double time,
+                 const planning::demo::TruthCheck& check) {
+    csv << i << ',' << type << ',' << planning::toString(status) << ',' << length << ',' << cost << ',' << time << ','
+        << (check.valid ? 1 : 0) << ",\"" << check.reason << "\"\n";
+  };
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Eigen::Vector3d a = pairs[i].first.point_W, b = pairs[i].second.point_W;
+    const planning::PlanResult on_mesh = planning::planOnSurface(graph, a, b, config);
+    std::vector<Eigen::Vector3d> mesh_path;
+    for (const planning::PathState& s : on_mesh.states) mesh_path.push_back(s.location.point_W);
+    const planning::demo::TruthCheck mesh_check =
+        on_mesh.solved() ? planning::demo::checkAgainstTruth(truth, bvh, mesh_path, map.map.up_W, map.map.metres_per_unit, map.profile.max_slope_deg)
+                         : planning::demo::TruthCheck{};
+    mesh.add(on_mesh.solved(), on_mesh.length_m, on_mesh.cost, on_mesh.planning_time_s, mesh_check.valid);
+    row(i, "mesh", on_mesh.status, on_mesh.length_m, on_mesh.cost, on_mesh.planning_time_s, mesh_check);
+
+    const planning::PlanResult on_graph = planning::planOnFaceGraph(graph, a, b, config);
+    std::vector<Eigen::Vector3d> graph_path;
+    for (const planning::PathState& s : on_graph.states) graph_path.push_back(s.location.point_W);
+    const planning::demo::TruthCheck graph_check =
+        on_graph.solved() ? planning::demo::checkAgainstTruth(truth, bvh, graph_path, map.map.up_W, map.map.metres_per_unit, map.profile.max_slope_deg)
+                          : planning::demo::TruthCheck{};
+    graph_tally.add(on_graph.solved(), on_graph.length_m, on_graph.cost, on_graph.planning_time_s, graph_check.valid);
+    row(i, "mesh_graph", on_graph.status, on_graph.length_m, on_graph.cost, on_graph.planning_time_s, graph_check);
+
+    const planning::GridPlanResult on_grid = planning::planOnGrid(grid, a, b, config, robot.cost_weight);
+    const planning::demo::TruthCheck grid_check =
+        on_grid.solved() ? planning::demo::checkAgainstTruth(truth, bvh, on_grid.points_W, map.map.up_W, map.map.metres_per_unit, map.profile.max_slope_deg)
+                         : planning::demo::TruthCheck{};
+    voxels.add(on_grid.solved(), on_grid.length_m, on_grid.cost, on_grid.planning_time_s, grid_check.valid);
+    row(i, "octomap", on_grid.status, on_grid.length_m, on_grid.cost, on_grid.planning_time_s, grid_check);
+  }
+  writeFileAtomically(options.out / "pairs.csv", csv.str());
+
+  auto experiment = [&](const std::string& type, std::vector<planning::BenchmarkPlannerRuns> runs) {
+    planning::BenchmarkExperiment e;
+    e.name = "terramesh_planner_demo";
+    e.parameters = {{"map_type", type}};
+    e.setup = "scene " + options.scene.string() + ", map " + options.map.string() + ", " + std::to_string(pairs.size()) +
+              " random pairs";
+    e.seed = options.seed;
+    e.time_limit_s = options.time_budget_s;
+    e.run_count = pairs.size();
+    e.planners = std::move(runs);
+    return e;
+  };
+  planning::writeOmplBenchmarkLog(options.out / "mesh.log", experiment("mesh", {mesh.runs, graph_tally.runs}));
+  planning::writeOmplBenchmarkLog(options.out / "octomap.log", experiment("octomap", {voxels.runs}));
+
+  std::ostringstream table;
+  table.precision(4);
+  auto line = [&](const std::string& name, const Tally& t, double build_s, std::size_t bytes) {
+    const double n = static_cast<double>(std::max<std::size_t>(t.solved, 1));
+    table << "| " << name << " | " << t.solved << "/" << pairs.size() << " | " << t.length / n << " | " << t.cost / n
+          << " | " << t.time / static_cast<double>(std::max<std::size_t>(pairs.size(), 1)) << " | " << build_s << " | "
+          << static_cast<double>(bytes) / 1e6 << " | " << t.truth_valid << "/" << t.solved << " |\n";
+  };
+  table << "| map | solved | mean length (m) | mean cost | mean planning time (s) | map build time (s) | map memory (MB) | "
+           "valid on ground truth |\n|---|---|---|---|---|---|---|---|\n";
+  line("mesh, " + options.planner, mesh, graph_time, mesh_bytes);
+  line("mesh, graph A*", graph_tally, graph_time, mesh_bytes);
+  line("octomap " + std::to_string(options.resolution_m).substr(0, 4) + " m, " + options.planner, voxels,
+       octo.build_time_s + grid_time, octo.memory_bytes + grid.memoryBytes());
+  table << "\nmesh: " << graph.walkableFaceCount() << " walkable faces of " << graph.faceCount()
+        << " (build time here: the planner's face graph only; the mesher and layers are timed by their commands)\n"
+        << "octomap: " << octo.keyframes << " keyframes, " << octo.points << " points, " << octo.leaves << " leaves ("
+        << octo.occupied_leaves << " occupied), insertion " << octo.build_time_s << " s, grid " << grid_time << " s; grid "
+        << grid.width << " x " << grid.height << ", " << grid.knownCells() << " known cells, " << grid.traversableCells()
+        << " traversable\n";
+  writeFileAtomically(options.out / "comparison.md", table.str());
+  std::cout << table.str();
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse(argc, argv));
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "planner_demo: " << error.what() << '\n';
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "planner_demo: " << error.what() << '\n';
+    return 1;
+  }
+}

@@ -1,0 +1,176 @@
+#include "planning/face_graph.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "geometry.h"
+
+namespace terramesh::planning {
+
+void WalkabilityConfig::validate() const {
+  std::ostringstream problems;
+  if (!(min_lethal_distance_m >= 0) || !std::isfinite(min_lethal_distance_m)) {
+    problems << " min_lethal_distance_m: " << min_lethal_distance_m << " (expected >= 0);";
+  }
+  if (!(cost_weight >= 0) || !std::isfinite(cost_weight)) {
+    problems << " cost_weight: " << cost_weight << " (expected >= 0);";
+  }
+  if (!(max_face_tilt_deg > 0 && max_face_tilt_deg <= 90)) {
+    problems << " max_face_tilt_deg: " << max_face_tilt_deg << " (expected in (0, 90]);";
+  }
+  const std::string text = problems.str();
+  if (!text.empty()) throw std::invalid_argument("WalkabilityConfig:" + text);
+}
+
+const char* toString(WalkStop stop) {
+  switch (stop) {
+    case WalkStop::kReached: return "reached";
+    case WalkStop::kBlocked: return "blocked";
+    case WalkStop::kBoundary: return "boundary";
+    case WalkStop::kStuck: return "stuck";
+    case WalkStop::kTooLong: return "too_long";
+  }
+  return "?";
+}
+
+FaceGraph::FaceGraph(const traversability::LayeredMesh& map, const WalkabilityConfig& config)
+    : config_(config), vertices_(map.mesh.vertices), faces_(map.mesh.faces), layers_(map.layers) {
+  config_.validate();
+  if (map.layers.size() != map.mesh.faces.size()) {
+    throw std::invalid_argument("FaceGraph: " + std::to_string(map.layers.size()) + " layer records for " +
+                                std::to_string(map.mesh.faces.size()) + " faces");
+  }
+  if (!(map.metres_per_unit > 0) || !std::isfinite(map.metres_per_unit)) {
+    throw std::invalid_argument("FaceGraph: metres_per_unit must be > 0");
+  }
+  const double up_norm = map.up_W.norm();
+  if (!(up_norm > 0) || !map.up_W.allFinite()) throw std::invalid_argument("FaceGraph: up_W must be a non-zero vector");
+  up_W_ = map.up_W / up_norm;
+  metres_per_unit_ = map.metres_per_unit;
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    for (std::uint32_t v : faces_[f]) {
+      if (v >= vertices_.size()) {
+        throw std::invalid_argument("FaceGraph: face " + std::to_string(f) + " indexes missing vertex " +
+                                    std::to_string(v));
+      }
+    }
+  }
+  computeWalkability(map);
+  computeNeighbours();
+  computeComponents();
+}
+
+Eigen::Vector3d FaceGraph::centroid(std::uint32_t f) const {
+  const auto& t = faces_[f];
+  return (vertices_[t[0]] + vertices_[t[1]] + vertices_[t[2]]) / 3.0;
+}
+
+void FaceGraph::computeWalkability(const traversability::LayeredMesh& map) {
+  const std::size_t n = faces_.size();
+  normals_.resize(n);
+  areas_.resize(n);
+  walkable_.assign(n, 0);
+  multipliers_.assign(n, 1.0);
+  const double min_up = std::cos(config_.max_face_tilt_deg * M_PI / 180.0);
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto& t = faces_[f];
+    const Eigen::Vector3d cross = (vertices_[t[1]] - vertices_[t[0]]).cross(vertices_[t[2]] - vertices_[t[0]]);
+    const double norm = cross.norm();
+    areas_[f] = 0.5 * norm;
+    normals_[f] = norm > 0 ? Eigen::Vector3d(cross / norm) : Eigen::Vector3d::Zero();
+    const traversability::FaceLayers& layer = map.layers[f];
+    const bool free = layer.face_class == traversability::FaceClass::kFree && std::isfinite(layer.cost);
+    const bool far_from_lethal = !(layer.lethal_distance_m < config_.min_lethal_distance_m);
+    const bool facing_up = normals_[f].dot(up_W_) >= min_up;
+    if (free && far_from_lethal && facing_up && norm > 0) {
+      walkable_[f] = 1;
+      multipliers_[f] = 1.0 + config_.cost_weight * std::clamp(static_cast<double>(layer.cost), 0.0, 1.0);
+      walkable_faces_.push_back(static_cast<std::uint32_t>(f));
+    }
+  }
+}
+
+void FaceGraph::computeNeighbours() {
+  // Undirected edge -> the faces using it; an edge with exactly two faces joins them.
+  std::unordered_map<std::uint64_t, std::array<std::uint32_t, 3>> edge_faces;
+  edge_faces.reserve(faces_.size() * 2);
+  auto key = [](std::uint32_t a, std::uint32_t b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(a) << 32) | b;
+  };
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    for (int e = 0; e < 3; ++e) {
+      const auto& t = faces_[f];
+      auto& slot = edge_faces.try_emplace(key(t[static_cast<std::size_t>(e)], t[static_cast<std::size_t>((e + 1) % 3)]),
+                                          std::array<std::uint32_t, 3>{kNoFace, kNoFace, 0})
+                       .first->second;
+      if (slot[2] < 2) slot[slot[2]] = f;
+      ++slot[2];
+    }
+  }
+  neighbours_.assign(faces_.size(), {kNoFace, kNoFace, kNoFace});
+  face_edges_.assign(faces_.size(), {kNoFace, kNoFace, kNoFace});
+  std::unordered_map<std::uint64_t, std::uint32_t> edge_ids;
+  edge_ids.reserve(edge_faces.size());
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    for (int e = 0; e < 3; ++e) {
+      const auto& t = faces_[f];
+      const std::uint32_t a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
+      const auto [it, added] = edge_ids.try_emplace(key(a, b), static_cast<std::uint32_t>(edge_vertices_.size()));
+      const auto& slot = edge_faces.at(key(a, b));
+      if (added) {
+        edge_vertices_.push_back({std::min(a, b), std::max(a, b)});
+        edge_faces_.push_back({f, slot[2] == 2 ? (slot[0] == f ? slot[1] : slot[0]) : kNoFace});
+      }
+      face_edges_[f][static_cast<std::size_t>(e)] = it->second;
+      if (slot[2] != 2) continue;
+      neighbours_[f][static_cast<std::size_t>(e)] = slot[0] == f ? slot[1] : slot[0];
+    }
+  }
+}
+
+void FaceGraph::computeComponents() {
+  components_.assign(faces_.size(), kNoFace);
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t seed : walkable_faces_) {
+    if (components_[seed] != kNoFace) continue;
+    const auto id = static_cast<std::uint32_t>(component_areas_.size());
+    double area = 0;
+    components_[seed] = id;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::uint32_t f = stack.back();
+      stack.pop_back();
+      area += areas_[f];
+      for (std::uint32_t g : neighbours_[f]) {
+        if (g == kNoFace || !walkable_[g] || components_[g] != kNoFace) continue;
+        components_[g] = id;
+        stack.push_back(g);
+      }
+    }
+    component_areas_.push_back(area);
+  }
+}
+
+std::optional<SurfaceLocation> FaceGraph::snap(const Eigen::Vector3d& query_W, double radius_m) const {
+  if (!query_W.allFinite()) throw std::invalid_argument("FaceGraph::snap: query is not finite");
+  const double radius = radius_m / metres_per_unit_;
+  double best = radius * radius;
+  std::optional<SurfaceLocation> result;
+  for (std::uint32_t f : walkable_faces_) {
+    const auto& t = faces_[f];
+    const Eigen::Vector3d p = closestPointOnTriangle(query_W, vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]);
+    const double d2 = (p - query_W).squaredNorm();
+    if (d2 < best || (!result && d2 <= best)) {
+      best = d2;
+      result = SurfaceLocation{f, p};
+    }
+  }
+  return result;
+}
+
+}  // namespace terramesh::planning

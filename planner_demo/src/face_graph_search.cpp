@@ -1,0 +1,134 @@
+// A* over points on the edges of the walkable faces: the discrete baseline.
+#include <algorithm>
+#include <array>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <stdexcept>
+
+#include "planning/face_graph.h"
+
+namespace terramesh::planning {
+namespace {
+
+/// Moves every crossing along its edge to the cheapest place given its neighbours, sweep after
+/// sweep (coordinate descent on a convex function: the cost is a sum of weighted norms of affine
+/// functions of the edge parameters), so the polyline becomes the cheapest one through the same
+/// sequence of edges. `ends[i]` are the edge end points of point i (unused for the first and last).
+void straighten(std::vector<Eigen::Vector3d>& points, const std::vector<std::array<Eigen::Vector3d, 2>>& ends,
+                const std::vector<double>& weights) {
+  auto piece_cost = [&](std::size_t i, const Eigen::Vector3d& p) {
+    return (p - points[i - 1]).norm() * weights[i - 1] + (points[i + 1] - p).norm() * weights[i];
+  };
+  for (int sweep = 0; sweep < 500; ++sweep) {
+    double moved = 0;
+    for (std::size_t i = 1; i + 1 < points.size(); ++i) {
+      const Eigen::Vector3d& a = ends[i][0];
+      const Eigen::Vector3d& b = ends[i][1];
+      double lo = 0, hi = 1;
+      for (int it = 0; it < 60 && hi - lo > 1e-10; ++it) {  // golden-section search
+        const double m1 = hi - 0.6180339887 * (hi - lo), m2 = lo + 0.6180339887 * (hi - lo);
+        if (piece_cost(i, a + m1 * (b - a)) <= piece_cost(i, a + m2 * (b - a))) hi = m2;
+        else lo = m1;
+      }
+      const Eigen::Vector3d candidate = a + 0.5 * (lo + hi) * (b - a);
+      if (piece_cost(i, candidate) < piece_cost(i, points[i])) {
+        moved = std::max(moved, (candidate - points[i]).norm());
+        points[i] = candidate;
+      }
+    }
+    if (moved < 1e-9) break;
+  }
+}
+
+}  // namespace
+
+GraphPath FaceGraph::shortestPath(const SurfaceLocation& start, const SurfaceLocation& goal, int points_per_edge) const {
+  if (points_per_edge < 1) throw std::invalid_argument("FaceGraph::shortestPath: points_per_edge must be >= 1");
+  GraphPath result;
+  if (start.face >= faces_.size() || goal.face >= faces_.size()) return result;
+  if (!walkable_[start.face] || !walkable_[goal.face]) return result;
+  if (components_[start.face] != components_[goal.face]) return result;
+
+  const auto k = static_cast<std::uint32_t>(points_per_edge);
+  const std::size_t edge_nodes = edge_vertices_.size() * k;
+  const auto start_node = static_cast<std::uint32_t>(edge_nodes);
+  const auto goal_node = start_node + 1;
+  auto position = [&](std::uint32_t node) -> Eigen::Vector3d {
+    if (node == start_node) return start.point_W;
+    if (node == goal_node) return goal.point_W;
+    const auto& ends = edge_vertices_[node / k];
+    const double s = static_cast<double>(node % k + 1) / static_cast<double>(k + 1);
+    return vertices_[ends[0]] + s * (vertices_[ends[1]] - vertices_[ends[0]]);
+  };
+
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> best(edge_nodes + 2, inf);
+  std::vector<std::uint32_t> parent(edge_nodes + 2, kNoFace);
+  std::vector<std::uint32_t> parent_face(edge_nodes + 2, kNoFace);
+  std::vector<std::uint8_t> closed(edge_nodes + 2, 0);
+  using Entry = std::pair<double, std::uint32_t>;  // (g + h, node)
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+  best[start_node] = 0;
+  open.emplace((goal.point_W - start.point_W).norm(), start_node);
+
+  auto relax_face = [&](std::uint32_t u, const Eigen::Vector3d& pu, std::uint32_t f) {
+    if (f == kNoFace || !walkable_[f]) return;
+    auto relax = [&](std::uint32_t w) {
+      if (closed[w] || w == u) return;
+      const Eigen::Vector3d pw = position(w);
+      const double candidate = best[u] + (pw - pu).norm() * multipliers_[f];
+      if (candidate < best[w]) {
+        best[w] = candidate;
+        parent[w] = u;
+        parent_face[w] = f;
+        open.emplace(candidate + (goal.point_W - pw).norm(), w);
+      }
+    };
+    for (std::uint32_t edge : face_edges_[f]) {
+      for (std::uint32_t j = 0; j < k; ++j) relax(edge * k + j);
+    }
+    if (f == goal.face) relax(goal_node);
+  };
+
+  while (!open.empty()) {
+    const std::uint32_t u = open.top().second;
+    open.pop();
+    if (closed[u]) continue;
+    closed[u] = 1;
+    ++result.expanded;
+    if (u == goal_node) break;
+    const Eigen::Vector3d pu = position(u);
+    if (u == start_node) {
+      relax_face(u, pu, start.face);
+    } else {
+      for (std::uint32_t f : edge_faces_[u / k]) relax_face(u, pu, f);
+    }
+  }
+  if (!closed[goal_node]) return result;
+  std::vector<std::array<Eigen::Vector3d, 2>> ends;
+  for (std::uint32_t node = goal_node; node != kNoFace; node = parent[node]) {
+    result.points_W.push_back(position(node));
+    if (parent[node] != kNoFace) result.faces.push_back(parent_face[node]);
+    const std::array<std::uint32_t, 2> edge = node < edge_nodes ? edge_vertices_[node / k] : std::array<std::uint32_t, 2>{0, 0};
+    ends.push_back({vertices_[edge[0]], vertices_[edge[1]]});
+  }
+  std::reverse(result.points_W.begin(), result.points_W.end());
+  std::reverse(result.faces.begin(), result.faces.end());
+  std::reverse(ends.begin(), ends.end());
+  std::vector<double> weights;
+  for (std::uint32_t f : result.faces) weights.push_back(multipliers_[f]);
+  straighten(result.points_W, ends, weights);
+  double length = 0, cost = 0;
+  for (std::size_t i = 1; i < result.points_W.size(); ++i) {
+    const double piece = (result.points_W[i] - result.points_W[i - 1]).norm();
+    length += piece;
+    cost += piece * weights[i - 1];
+  }
+  result.found = true;
+  result.length_m = length * metres_per_unit_;
+  result.cost = cost * metres_per_unit_;
+  return result;
+}
+
+}  // namespace terramesh::planning

@@ -1,0 +1,279 @@
+#!/usr/bin/python3
+"""Figures of a traversability map folder (`terramesh` map exports, docs/formats.md).
+
+Inputs (MAP is the folder):
+  MAP/traversability.ply  binary PLY: vertex x y z (mesh frame, map units); per-face cost (float,
+                          [0,1], NaN = unknown), lethal and unknown (uchar flags), and the layers
+                          slope_deg, contact, step_m, roughness_m (float; optional for the figures)
+  MAP/map_frame.yaml      up: [x, y, z] and metres_per_unit (plan_x, plan_y when present): a mesh
+                          point p is drawn at (plan_x . p, plan_y . p) * metres_per_unit
+  --path [LABEL=]FILE     planned path(s), CSV with header x,y,z[,yaw,face,cost] (repeatable;
+                          default MAP/path.csv if it exists); x,y,z in the mesh frame like the
+                          PLY, or in plan metres with --path-frame plan
+  --trajectory FILE       camera trajectory, KITTI poses (12 numbers per line, camera-to-world,
+                          mesh frame), e.g. the generator's trajectory.txt
+Outputs (default MAP/plots):
+  traversability_top.png         top view, faces coloured by cost, unknown grey, lethal red, with
+                                 the trajectory and the paths; upper faces drawn over lower ones
+  traversability_histograms.png  area of known faces per slope, contact, step and roughness bin,
+                                 traversable and lethal stacked
+Exit codes: 0 done, 2 missing or malformed input (message on stderr).
+
+  scripts/figures/traversability_figures.py out/map --trajectory out/street/trajectory.txt
+"""
+
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+import numpy as np  # noqa: E402
+import ply  # noqa: E402
+
+UNKNOWN_RGBA = (0.62, 0.62, 0.62, 1.0)
+LETHAL_RGBA = (0.85, 0.0, 0.0, 1.0)
+PATH_COLOURS = ["magenta", "darkorange", "cyan", "black", "lime", "saddlebrown"]
+TOP_VIEW_SIZE_IN = (12.0, 10.0)
+HISTOGRAMS = [("slope_deg", "slope (degrees)", np.arange(0.0, 90.0 + 1e-9, 2.0)),
+              ("contact", "ground contact (fraction of the footprint)", np.linspace(0.0, 1.0, 41)),
+              ("step_m", "step height (m)", None),
+              ("roughness_m", "roughness (m)", None)]
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(
+        description="Draws a top view and layer histograms of a traversability map folder.",
+        epilog="Exit codes: 0 done, 2 missing or malformed input.")
+    parser.add_argument("map_dir", metavar="MAP", help="folder with traversability.ply and map_frame.yaml")
+    parser.add_argument("--ply", metavar="FILE", help="the layered mesh (default: MAP/traversability.ply)")
+    parser.add_argument("--frame", metavar="FILE", help="the map frame (default: MAP/map_frame.yaml)")
+    parser.add_argument("--path", metavar="[LABEL=]FILE", action="append", default=[],
+                        help="a planned path CSV (x,y,z,...); repeat for several (default: MAP/path.csv if present)")
+    parser.add_argument("--path-frame", choices=["mesh", "plan"], default="mesh",
+                        help="x,y,z of the paths: mesh frame like the PLY (default), or plan metres")
+    parser.add_argument("--trajectory", metavar="FILE", help="camera trajectory, KITTI pose format")
+    parser.add_argument("-o", "--output-dir", metavar="OUT", help="where the PNGs go (default: MAP/plots)")
+    return parser.parse_args(argv)
+
+
+def read_frame(path):
+    """(up, plan_x, plan_y, metres_per_unit) of a map_frame.yaml; axes are unit numpy vectors."""
+    common.require_file(path)
+    try:
+        import yaml
+    except ImportError:
+        sys.exit("traversability_figures.py: needs PyYAML (Debian: python3-yaml)")
+    try:
+        with open(path, encoding="utf-8") as handle:
+            root = yaml.safe_load(handle)
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark else ""
+        raise common.InputError(path, where, f"malformed YAML ({getattr(error, 'problem', error)})") from None
+    if not isinstance(root, dict):
+        raise common.InputError(path, "", "expected a YAML mapping with keys up and metres_per_unit")
+
+    def vector(key, required):
+        value = root.get(key)
+        if value is None and not required:
+            return None
+        if not isinstance(value, list) or len(value) != 3:
+            raise common.InputError(path, f"key {key}", "expected [x, y, z]")
+        try:
+            array = np.array([float(v) for v in value])
+        except (TypeError, ValueError):
+            raise common.InputError(path, f"key {key}", "expected three numbers") from None
+        if not np.all(np.isfinite(array)) or np.linalg.norm(array) < 1e-12:
+            raise common.InputError(path, f"key {key}", "expected a finite non-zero vector")
+        return array / np.linalg.norm(array)
+
+    up = vector("up", True)
+    scale = root.get("metres_per_unit")
+    if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not np.isfinite(scale) or scale <= 0:
+        raise common.InputError(path, "key metres_per_unit", "expected a positive number")
+    plan_x = vector("plan_x", False)
+    plan_y = vector("plan_y", False)
+    if plan_x is None or plan_y is None:
+        # As MapPlane::fromUp: the mesh x axis projected on the plane, y if x is within 30 degrees of up.
+        reference = np.array([1.0, 0.0, 0.0])
+        if abs(reference @ up) > np.cos(np.radians(30.0)):
+            reference = np.array([0.0, 1.0, 0.0])
+        plan_x = reference - (reference @ up) * up
+        plan_x /= np.linalg.norm(plan_x)
+        plan_y = np.cross(up, plan_x)
+    return up, plan_x, plan_y, float(scale)
+
+
+def read_map(path):
+    """(vertices (N,3), faces list or (F,3) array, {layer: (F,) float array}) of traversability.ply."""
+    elements = ply.read(path)
+    for name in ("vertex", "face"):
+        if name not in elements:
+            raise common.InputError(path, "header", f"missing element \"{name}\"")
+    vertex, face = elements["vertex"], elements["face"]
+    for name in ("x", "y", "z"):
+        if name not in vertex:
+            raise common.InputError(path, "element vertex", f"missing property \"{name}\"")
+    for name in ("vertex_indices", "cost", "lethal", "unknown"):
+        if name not in face:
+            raise common.InputError(path, "element face", f"missing property \"{name}\"")
+    if face.count == 0:
+        raise common.InputError(path, "element face", "holds no face")
+    vertices = np.column_stack([vertex["x"], vertex["y"], vertex["z"]]).astype(float)
+    faces = face["vertex_indices"]
+    polygons = [faces] if isinstance(faces, np.ndarray) else faces
+    for polygon in polygons:
+        if np.size(polygon) and (np.min(polygon) < 0 or np.max(polygon) >= len(vertices)):
+            raise common.InputError(path, "element face", "vertex index out of range")
+    layers = {prop.name: face[prop.name].astype(float) for prop in face.properties if not prop.is_list}
+    return vertices, faces, layers
+
+
+def read_path(spec):
+    """(label, (N, 3) points) of a path CSV given as FILE or LABEL=FILE."""
+    label, file = "", spec
+    if "=" in spec and not os.path.exists(spec):
+        label, _, file = spec.partition("=")
+    label = label or os.path.splitext(os.path.basename(file))[0]
+    rows = common.read_csv(file, ["x", "y", "z"])
+    if not rows:
+        raise common.InputError(file, "", "holds no waypoint")
+    points = np.array([[common.number(file, row, key) for key in ("x", "y", "z")] for row in rows])
+    return label, points
+
+
+def faces_area_m2(xyz_m, faces):
+    """Surface area of each face, m^2 (triangle fan for polygons)."""
+    if isinstance(faces, np.ndarray) and faces.shape[1] == 3:
+        p = xyz_m[faces]
+        return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    polygons = list(faces)
+    areas = np.zeros(len(polygons))
+    for i, polygon in enumerate(polygons):
+        p = xyz_m[polygon]
+        for k in range(1, len(polygon) - 1):
+            areas[i] += 0.5 * np.linalg.norm(np.cross(p[k] - p[0], p[k + 1] - p[0]))
+    return areas
+
+
+def top_view(plt, vertices, faces, layers, frame, paths, trajectory, title_counts):
+    from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+    up, plan_x, plan_y, scale = frame
+    plan = np.column_stack([vertices @ plan_x, vertices @ plan_y]) * scale
+    height = (vertices @ up) * scale
+    if isinstance(faces, np.ndarray):
+        order = np.argsort(height[faces].mean(axis=1), kind="stable")
+        polygons = plan[faces[order]]
+    else:
+        order = np.argsort([height[polygon].mean() for polygon in faces], kind="stable")
+        polygons = [plan[faces[i]] for i in order]
+    cmap = plt.get_cmap("viridis")
+    cost = layers["cost"][order]
+    colours = cmap(np.clip(np.nan_to_num(cost, nan=0.0), 0.0, 1.0))
+    colours[layers["unknown"][order] != 0] = UNKNOWN_RGBA
+    colours[layers["lethal"][order] != 0] = LETHAL_RGBA
+
+    figure, axes = plt.subplots(figsize=TOP_VIEW_SIZE_IN, dpi=common.FIGURE_DPI)
+    # No antialiasing: it would show the background through the seams between faces.
+    axes.add_collection(PolyCollection(polygons, facecolors=colours, edgecolors="none", antialiaseds=False))
+    handles = [Patch(color=UNKNOWN_RGBA, label="unknown"), Patch(color=LETHAL_RGBA, label="lethal")]
+    points = [plan]
+    if trajectory is not None:
+        xy = np.column_stack([trajectory @ plan_x, trajectory @ plan_y]) * scale
+        axes.plot(xy[:, 0], xy[:, 1], color="black", linestyle="--", linewidth=1.2)
+        axes.plot(xy[0, 0], xy[0, 1], marker="o", color="black")
+        handles.append(Line2D([], [], color="black", linestyle="--", label="camera trajectory"))
+        points.append(xy)
+    for i, (label, xy) in enumerate(paths):
+        colour = PATH_COLOURS[i % len(PATH_COLOURS)]
+        axes.plot(xy[:, 0], xy[:, 1], color=colour, linewidth=2.0)
+        axes.plot(xy[0, 0], xy[0, 1], marker="o", color=colour)
+        axes.plot(xy[-1, 0], xy[-1, 1], marker="*", markersize=12, color=colour)
+        handles.append(Line2D([], [], color=colour, linewidth=2.0, label=f"path: {label}"))
+        points.append(xy)
+    everything = np.vstack(points)
+    low, high = everything.min(axis=0), everything.max(axis=0)
+    margin = 0.03 * max(float(np.max(high - low)), 1e-6)
+    axes.set_xlim(low[0] - margin, high[0] + margin)
+    axes.set_ylim(low[1] - margin, high[1] + margin)
+    axes.set_aspect("equal")
+    axes.set_xlabel("plan x (m)")
+    axes.set_ylabel("plan y (m)")
+    axes.set_title("Traversability, top view\n" + title_counts)
+    mappable = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0.0, 1.0))
+    figure.colorbar(mappable, ax=axes, label="cost", fraction=0.04, pad=0.02)
+    axes.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.07), ncol=min(len(handles), 4))
+    figure.set_layout_engine("tight")
+    return figure
+
+
+def histograms(plt, layers, areas):
+    figure, grid = plt.subplots(2, 2, figsize=common.FIGURE_SIZE_IN, dpi=common.FIGURE_DPI)
+    known = layers["unknown"] == 0
+    lethal = layers["lethal"] != 0
+    for axes, (name, label, bins) in zip(grid.ravel(), HISTOGRAMS):
+        axes.set_xlabel(label)
+        axes.set_ylabel("area (m²)")
+        if name not in layers:
+            axes.text(0.5, 0.5, f"no {name} in the map", ha="center", va="center", transform=axes.transAxes)
+            continue
+        values = layers[name]
+        use = known & np.isfinite(values)
+        if not np.any(use):
+            axes.text(0.5, 0.5, f"no finite {name} on known faces", ha="center", va="center",
+                      transform=axes.transAxes)
+            continue
+        if bins is None:
+            bins = np.linspace(0.0, max(float(np.percentile(values[use], 99.5)), 1e-3), 41)
+        axes.hist([np.clip(values[use & ~lethal], bins[0], bins[-1]), np.clip(values[use & lethal], bins[0], bins[-1])],
+                  bins=bins, weights=[areas[use & ~lethal], areas[use & lethal]], stacked=True,
+                  color=[plt.get_cmap("viridis")(0.35), LETHAL_RGBA], label=["traversable", "lethal"])
+        axes.legend(loc="upper right")
+    figure.suptitle("Known faces by layer (unknown faces left out; values past the last bin counted in it)")
+    figure.set_layout_engine("tight")
+    return figure
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    ply_path = args.ply or os.path.join(args.map_dir, "traversability.ply")
+    frame = read_frame(args.frame or os.path.join(args.map_dir, "map_frame.yaml"))
+    vertices, faces, layers = read_map(ply_path)
+    specs = args.path
+    default_path = os.path.join(args.map_dir, "path.csv")
+    if not specs and os.path.isfile(default_path):
+        specs = [default_path]
+    up, plan_x, plan_y, scale = frame
+    paths = []
+    for spec in specs:
+        label, points = read_path(spec)
+        if args.path_frame == "mesh":
+            points = np.column_stack([points @ plan_x, points @ plan_y]) * scale
+        paths.append((label, points[:, :2]))
+    trajectory = common.read_kitti_positions(args.trajectory) if args.trajectory else None
+
+    areas = faces_area_m2(vertices * scale, faces)
+    total = max(float(areas.sum()), 1e-12)
+    unknown = layers["unknown"] != 0
+    lethal = (layers["lethal"] != 0) & ~unknown
+    counts = (f"{len(areas)} faces; by area {100 * areas[~unknown & ~lethal].sum() / total:.1f}% traversable, "
+              f"{100 * areas[lethal].sum() / total:.1f}% lethal, {100 * areas[unknown].sum() / total:.1f}% unknown")
+    output_dir = args.output_dir or os.path.join(args.map_dir, "plots")
+    plt = common.pyplot()
+    written = []
+    figure = top_view(plt, vertices, faces, layers, frame, paths, trajectory, counts)
+    written.append(common.save_png(figure, os.path.join(output_dir, "traversability_top.png")))
+    plt.close(figure)
+    figure = histograms(plt, layers, areas)
+    written.append(common.save_png(figure, os.path.join(output_dir, "traversability_histograms.png")))
+    plt.close(figure)
+    for path in written:
+        print(path)
+    return common.EXIT_OK
+
+
+if __name__ == "__main__":
+    common.run_main(main)

@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Traversability maps against ground truth: for the synthetic street, offroad and garage scenes
+# (seed 1) and every shipped robot profile (traversability/robots/*.yaml), generates the scene,
+# meshes it with traversability layers (`terramesh mesh --robot`), scores the map against the
+# generator's labelled ground truth (`terramesh traverse-eval --gt-mesh`) and prints a markdown
+# table; then the road under the camera path on real KITTI 00 (ORB-SLAM, 16.589 m per unit).
+# Expects a Release build in build/ (or TERRAMESH_BUILD=dir) and ../shared/ beside the
+# repository. Writes under out/traversability_f1/; with TERRAMESH_REUSE=1, scenes and maps
+# already there are not made again (only scored).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+terramesh=${TERRAMESH_BUILD:-build}/apps/terramesh/terramesh
+shared=${TERRAMESH_SHARED_DIR:-../shared}
+out=out/traversability_f1
+mkdir -p "$out"
+robots=(traversability/robots/*.yaml)
+if [[ ! -e "${robots[0]}" ]]; then
+  echo "no robot profiles in traversability/robots/" >&2
+  exit 1
+fi
+
+# One markdown row from a traverse-eval report.
+row() {
+  awk -v scene="$1" -v robot="$2" '
+    { v[$1] = $2 }
+    END {
+      printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot,
+        v["precision"], v["recall"], v["f1"], v["coverage"], v["unknown_fraction"],
+        v["scored_m2"], v["truth_traversable_m2"]
+    }' "$3"
+}
+
+# The worst-classified truth labels of a report: scored area of each label and its free share.
+labels() {
+  awk '
+    /^label_.*_(free|lethal|unknown)_m2 / {
+      name = $1; sub(/^label_/, "", name); cls = name; sub(/_m2$/, "", cls); sub(/_[a-z]+$/, "", name)
+      sub(/^.*_/, "", cls); area[name, cls] = $2; names[name] = 1
+    }
+    END {
+      for (n in names) {
+        total = area[n, "free"] + area[n, "lethal"] + area[n, "unknown"]
+        printf "%s %.1f m2 (free %.2f lethal %.2f unknown %.2f); ", n, total,
+          total > 0 ? area[n, "free"] / total : 0, total > 0 ? area[n, "lethal"] / total : 0,
+          total > 0 ? area[n, "unknown"] / total : 0
+      }
+      printf "\n"
+    }' "$1"
+}
+
+echo "## Synthetic scenes (seed 1): map faces within 0.5 m of the truth"
+echo
+echo "| scene | robot | precision | recall | F1 | coverage | unknown fraction | scored m2 | truth traversable m2 |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for scene in street offroad garage; do
+  [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$out/$scene/ground_truth.ply" ]] || "$terramesh" generate "$scene" -o "$out/$scene" --seed 1 --quiet
+  for robot_file in "${robots[@]}"; do
+    robot=$(basename "$robot_file" .yaml)
+    map="$out/${scene}_$robot"
+    [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$map/traversability.ply" ]] ||
+      "$terramesh" mesh "$out/$scene/stream.tmstream" --robot "$robot_file" -o "$map" --quiet
+    "$terramesh" traverse-eval "$map" --gt-mesh "$out/$scene/ground_truth.ply" \
+      --report "$out/${scene}_$robot.txt" --quiet
+    row "$scene" "$robot" "$out/${scene}_$robot.txt"
+  done
+done
+echo
+echo "Per-label map area (nearest truth label) and its free / lethal / unknown shares:"
+echo
+for scene in street offroad garage; do
+  for robot_file in "${robots[@]}"; do
+    robot=$(basename "$robot_file" .yaml)
+    echo "- $scene / $robot: $(labels "$out/${scene}_$robot.txt")"
+  done
+done
+
+# KITTI 00: the road under the ORB-SLAM keyframe path, 1.65 m below the camera, 1.5 m each side.
+echo
+echo "## KITTI 00 (ORB-SLAM, 50 frames): the road under the camera path"
+echo
+echo "| robot | free | lethal | unknown | road m2 | path m |"
+echo "|---|---|---|---|---|---|"
+stream=$shared/data/kitti00_orbslam/slam_data_version0.1_KITTI00_50frames.json
+for robot_file in "${robots[@]}"; do
+  robot=$(basename "$robot_file" .yaml)
+  map="$out/kitti00_$robot"
+  [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$map/traversability.ply" ]] ||
+    "$terramesh" mesh "$stream" --robot "$robot_file" --metres-per-unit 16.589 -o "$map" --quiet
+  "$terramesh" traverse-eval "$map" --road-under-path "$stream" --report "$out/kitti00_$robot.txt" --quiet
+  awk -v robot="$robot" '{ v[$1] = $2 } END {
+      printf "| %s | %s | %s | %s | %.1f | %s |\n", robot, v["road_free_fraction"], v["road_lethal_fraction"],
+        v["road_unknown_fraction"], v["road_free_m2"] + v["road_lethal_m2"] + v["road_unknown_m2"], v["path_length_m"]
+    }' "$out/kitti00_$robot.txt"
+done

@@ -1,0 +1,196 @@
+// The scorer against hand-made truths and maps with known answers.
+#include "evaluation/traversability_score.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "evaluation/mesh_refinement.h"
+#include "evaluation/road_under_path.h"
+#include "labeled_mesh_builder.h"
+
+namespace terramesh::evaluation {
+namespace {
+
+using datasets::LabeledMesh;
+using datasets::SurfaceLabel;
+using traversability::FaceClass;
+using traversability::LayeredMesh;
+
+/// Truth: level floor z = 0 over [0, 4] x [0, 4]; road (traversable) for x < 2, obstacle tops
+/// (not traversable) for x > 2: 8 m^2 each.
+GroundTruthTraversability halfRoadTruth() {
+  LabeledMesh mesh;
+  test::addFloor(mesh, 0, 2, 0, 4, 0, SurfaceLabel::kRoad);
+  test::addFloor(mesh, 2, 4, 0, 4, 0, SurfaceLabel::kObstacle);
+  RobotLimits robot;
+  return labelTraversability(mesh, robot, Eigen::Vector3d::UnitZ(), GroundTruthConfig{});
+}
+
+/// A map: unit squares over [0, 4] x [0, 4] at height z, each face classed by `classify(x, y)`
+/// of its centroid.
+LayeredMesh gridMap(double z, const std::function<FaceClass(double, double)>& classify) {
+  LabeledMesh squares;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) test::addFloor(squares, i, i + 1, j, j + 1, z, SurfaceLabel::kRoad);
+  }
+  LayeredMesh map;
+  map.mesh = squares.mesh;
+  for (std::size_t f = 0; f < map.mesh.faces.size(); ++f) {
+    // The face's centroid lies strictly inside its unit square.
+    const Eigen::Vector3d centre = faceCentroid(map.mesh, f);
+    traversability::FaceLayers layers;
+    layers.face_class = classify(centre.x(), centre.y());
+    map.layers.push_back(layers);
+  }
+  return map;
+}
+
+FaceClass truthClass(double x, double /*y*/) { return x < 2 ? FaceClass::kFree : FaceClass::kLethal; }
+
+TEST(TraversabilityScore, MapEqualToTruthScoresOne) {
+  const GroundTruthTraversability truth = halfRoadTruth();
+  const TraversabilityScore score = scoreTraversability(gridMap(0.1, truthClass), truth, ScoreConfig{});
+  EXPECT_NEAR(score.true_positive_m2, 8.0, 1e-9);
+  EXPECT_NEAR(score.true_negative_m2, 8.0, 1e-9);
+  EXPECT_DOUBLE_EQ(score.precision, 1.0);
+  EXPECT_DOUBLE_EQ(score.recall, 1.0);
+  EXPECT_DOUBLE_EQ(score.f1, 1.0);
+  EXPECT_DOUBLE_EQ(score.coverage, 1.0);
+  EXPECT_NEAR(score.truth_traversable_m2, 8.0, 1e-9);
+  EXPECT_DOUBLE_EQ(score.unknown_fraction, 0.0);
+  EXPECT_NEAR(score.by_label[static_cast<std::size_t>(SurfaceLabel::kRoad)].free_m2, 8.0, 1e-9);
+  EXPECT_NEAR(score.by_label[static_cast<std::size_t>(SurfaceLabel::kObstacle)].lethal_m2, 8.0, 1e-9);
+}
+
+TEST(TraversabilityScore, FlippedMapScoresZero) {
+  const auto flipped = [](double x, double y) {
+    return truthClass(x, y) == FaceClass::kFree ? FaceClass::kLethal : FaceClass::kFree;
+  };
+  const TraversabilityScore score = scoreTraversability(gridMap(0, flipped), halfRoadTruth(), ScoreConfig{});
+  EXPECT_DOUBLE_EQ(score.precision, 0.0);
+  EXPECT_DOUBLE_EQ(score.recall, 0.0);
+  EXPECT_DOUBLE_EQ(score.f1, 0.0);
+  EXPECT_NEAR(score.false_positive_m2, 8.0, 1e-9);
+  EXPECT_NEAR(score.false_negative_m2, 8.0, 1e-9);
+}
+
+TEST(TraversabilityScore, KnownWrongRegionGivesExactPrecisionAndRecall) {
+  // Wrong: [2, 3] x [0, 4] free (4 m^2 false positive) and [0, 1] x [0, 1] lethal (1 m^2 false
+  // negative). TP = 7, FP = 4, FN = 1.
+  const auto wrong = [](double x, double y) {
+    if (x > 2 && x < 3) return FaceClass::kFree;
+    if (x < 1 && y < 1) return FaceClass::kLethal;
+    return truthClass(x, y);
+  };
+  const TraversabilityScore score = scoreTraversability(gridMap(-0.2, wrong), halfRoadTruth(), ScoreConfig{});
+  EXPECT_NEAR(score.precision, 7.0 / 11.0, 1e-12);
+  EXPECT_NEAR(score.recall, 7.0 / 8.0, 1e-12);
+  EXPECT_NEAR(score.f1, 14.0 / 19.0, 1e-12);
+  EXPECT_NEAR(score.true_negative_m2, 4.0, 1e-9);
+  const auto road = static_cast<std::size_t>(SurfaceLabel::kRoad);
+  const auto obstacle = static_cast<std::size_t>(SurfaceLabel::kObstacle);
+  EXPECT_NEAR(score.by_label_and_truth[road][1].lethal_m2, 1.0, 1e-9);
+  EXPECT_NEAR(score.by_label_and_truth[road][1].free_m2, 7.0, 1e-9);
+  EXPECT_NEAR(score.by_label_and_truth[obstacle][0].free_m2, 4.0, 1e-9);
+  EXPECT_NEAR(score.by_label_and_truth[road][0].total(), 0.0, 1e-12);
+  // Groups: 1 for the faces of the squares with x in [2, 3], 0 elsewhere.
+  const LayeredMesh map = gridMap(-0.2, wrong);
+  std::vector<std::uint8_t> groups;
+  for (std::size_t f = 0; f < map.mesh.faces.size(); ++f) {
+    const double x = faceCentroid(map.mesh, f).x();
+    groups.push_back(x > 2 && x < 3 ? 1 : 0);
+  }
+  const TraversabilityScore grouped = scoreTraversability(map, halfRoadTruth(), ScoreConfig{}, groups);
+  ASSERT_EQ(grouped.by_group.size(), 2u);
+  EXPECT_NEAR(grouped.by_group[1][0].free_m2, 4.0, 1e-9);
+  EXPECT_NEAR(grouped.by_group[1][1].total(), 0.0, 1e-12);
+  EXPECT_NEAR(grouped.by_group[0][1].lethal_m2, 1.0, 1e-9);
+  EXPECT_THROW(scoreTraversability(map, halfRoadTruth(), ScoreConfig{}, {1, 0}), std::invalid_argument);
+  // Whole faces at their centroids give the same answer here (faces do not straddle x = 2).
+  ScoreConfig whole;
+  whole.sample_edge_m = 0;
+  EXPECT_NEAR(scoreTraversability(gridMap(-0.2, wrong), halfRoadTruth(), whole).f1, 14.0 / 19.0, 1e-12);
+}
+
+TEST(TraversabilityScore, FacesFartherThanHalfAMetreAreIgnored) {
+  const GroundTruthTraversability truth = halfRoadTruth();
+  LayeredMesh map = gridMap(0, truthClass);
+  // A wrong free sheet 0.8 m above the truth: not scored.
+  LayeredMesh far = gridMap(0.8, [](double, double) { return FaceClass::kFree; });
+  const auto offset = static_cast<std::uint32_t>(map.mesh.vertices.size());
+  map.mesh.vertices.insert(map.mesh.vertices.end(), far.mesh.vertices.begin(), far.mesh.vertices.end());
+  for (auto face : far.mesh.faces) {
+    for (auto& v : face) v += offset;
+    map.mesh.faces.push_back(face);
+  }
+  map.layers.insert(map.layers.end(), far.layers.begin(), far.layers.end());
+  const TraversabilityScore score = scoreTraversability(map, truth, ScoreConfig{});
+  EXPECT_DOUBLE_EQ(score.f1, 1.0);
+  EXPECT_NEAR(score.ignored_far_m2, 16.0, 1e-9);
+  EXPECT_NEAR(score.scored_m2, 16.0, 1e-9);
+  // With a 1 m reach the sheet is scored and its obstacle half becomes false positives.
+  ScoreConfig wide;
+  wide.max_distance_m = 1.0;
+  EXPECT_NEAR(scoreTraversability(map, truth, wide).false_positive_m2, 8.0, 1e-9);
+}
+
+TEST(TraversabilityScore, UnknownFacesAreExcludedFromPrecisionButLowerCoverage) {
+  const GroundTruthTraversability truth = halfRoadTruth();
+  // The left half of the road (x < 1) is unknown.
+  const auto partly = [](double x, double y) { return x < 1 ? FaceClass::kUnknown : truthClass(x, y); };
+  const TraversabilityScore score = scoreTraversability(gridMap(0, partly), truth, ScoreConfig{});
+  EXPECT_DOUBLE_EQ(score.precision, 1.0);
+  EXPECT_DOUBLE_EQ(score.recall, 1.0);
+  EXPECT_NEAR(score.unknown_m2, 4.0, 1e-9);
+  EXPECT_NEAR(score.unknown_fraction, 0.25, 1e-12);
+  // Truth faces with x < 0.5 have no known face within 0.5 m: about 2 of the 8 m^2 (to within
+  // the truth's 0.25 m faces).
+  EXPECT_GT(score.coverage, 0.70);
+  EXPECT_LT(score.coverage, 0.80);
+  EXPECT_NEAR(score.by_label[static_cast<std::size_t>(SurfaceLabel::kRoad)].unknown_m2, 4.0, 1e-9);
+}
+
+TEST(RoadUnderPath, FractionsOfTheRoadUnderTheCamera) {
+  // Map in units of 0.5 m: free for |y| < 1 m, lethal beyond, at 1.65 m below a camera path
+  // along x (y = 0); a second sheet 0.9 m below the camera is not the road.
+  traversability::LayeredMesh map;
+  map.metres_per_unit = 0.5;
+  LabeledMesh sheets;
+  for (double y0 = -3; y0 < 3; y0 += 0.5) test::addFloor(sheets, 0, 20, y0, y0 + 0.5, -1.65, SurfaceLabel::kRoad);
+  test::addFloor(sheets, 0, 20, -3, 3, -0.9, SurfaceLabel::kRoad);
+  for (auto& v : sheets.mesh.vertices) v /= map.metres_per_unit;
+  map.mesh = sheets.mesh;
+  for (std::size_t f = 0; f < map.mesh.faces.size(); ++f) {
+    const double y = map.mesh.vertices[map.mesh.faces[f][0]].y() * map.metres_per_unit;
+    traversability::FaceLayers layers;
+    const bool upper = f >= map.mesh.faces.size() - 2;
+    layers.face_class = upper ? FaceClass::kUnknown : (y >= -1 && y < 1 ? FaceClass::kFree : FaceClass::kLethal);
+    map.layers.push_back(layers);
+  }
+  const std::vector<Eigen::Vector3d> path = {{5 / 0.5, 0, 0}, {10 / 0.5, 0, 0}, {15 / 0.5, 0, 0}};
+  const RoadUnderPath road = roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), RoadUnderPathConfig{});
+  // 10 m of path, 1.5 m each side; the path's ends add half-discs of radius 1.5 m.
+  EXPECT_NEAR(road.path_length_m, 10.0, 1e-9);
+  EXPECT_NEAR(road.areas.unknown_m2, 0.0, 1e-12);
+  EXPECT_GT(road.free_fraction, 0.6);
+  EXPECT_LT(road.free_fraction, 0.75);
+  EXPECT_NEAR(road.free_fraction + road.lethal_fraction, 1.0, 1e-12);
+  RoadUnderPathConfig whole;
+  whole.sample_edge_m = 0;
+  EXPECT_THROW(roadUnderPath(map, {path[0]}, Eigen::Vector3d::UnitZ(), whole), std::invalid_argument);
+}
+
+TEST(RoadUnderPath, UpFromCameraRotations) {
+  // A KITTI camera looking along +x of a z-up world: x_C = -y_W, y_C = -z_W, z_C = +x_W.
+  Eigen::Matrix3d R;
+  R.col(0) = -Eigen::Vector3d::UnitY();
+  R.col(1) = -Eigen::Vector3d::UnitZ();
+  R.col(2) = Eigen::Vector3d::UnitX();
+  EXPECT_LT((upFromCameraRotations({Eigen::Quaterniond(R)}) - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_THROW(upFromCameraRotations({}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace terramesh::evaluation

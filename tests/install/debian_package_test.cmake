@@ -1,0 +1,75 @@
+# ctest script: makes the Debian package with CPack in a temporary directory (from the built tree)
+# and checks with dpkg-deb that it holds the CLI, the libraries, their headers and CMake package,
+# and declares its dependencies. Variables: BINARY_DIR (the build tree), DPKG_DEB.
+foreach(variable BINARY_DIR DPKG_DEB)
+  if(NOT DEFINED ${variable})
+    message(FATAL_ERROR "debian_package_test: -D${variable}=... is required")
+  endif()
+endforeach()
+
+string(RANDOM LENGTH 10 suffix)
+set(work "$ENV{TMPDIR}")
+if(NOT work)
+  set(work "/tmp")
+endif()
+set(work "${work}/terramesh_deb_test_${suffix}")
+file(REMOVE_RECURSE "${work}")
+file(MAKE_DIRECTORY "${work}")
+
+function(fail problem)
+  file(REMOVE_RECURSE "${work}")
+  message(FATAL_ERROR "debian_package_test: ${problem}")
+endfunction()
+
+get_filename_component(cmake_bin "${CMAKE_COMMAND}" DIRECTORY)
+find_program(cpack NAMES cpack HINTS "${cmake_bin}" NO_DEFAULT_PATH)
+if(NOT cpack)
+  find_program(cpack NAMES cpack)
+endif()
+execute_process(COMMAND "${cpack}" -G DEB --config "${BINARY_DIR}/CPackConfig.cmake" -B "${work}"
+                RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
+if(NOT result EQUAL 0)
+  fail("cpack -G DEB failed (${result}):\n${output}")
+endif()
+file(GLOB packages "${work}/*.deb")
+list(LENGTH packages count)
+if(NOT count EQUAL 1)
+  fail("expected one .deb in ${work}, found ${count}:\n${output}")
+endif()
+
+execute_process(COMMAND "${DPKG_DEB}" -c ${packages} RESULT_VARIABLE result OUTPUT_VARIABLE contents)
+if(NOT result EQUAL 0)
+  fail("dpkg-deb -c failed")
+endif()
+# CMake's regular expressions anchor `$` at the end of the whole text: match whole lines instead.
+string(REPLACE "\n" ";" lines "${contents}")
+foreach(expected "usr/bin/terramesh" "usr/lib/libterramesh_mesher\\.a" "usr/lib/libterramesh_datasets\\.a"
+        "usr/lib/libterramesh_common\\.a" "usr/include/mesher/mesher\\.h"
+        "usr/lib/cmake/terramesh/terrameshConfig\\.cmake"
+        "usr/lib/cmake/terramesh/terrameshTargets\\.cmake")
+  set(found "")
+  foreach(line IN LISTS lines)
+    if(line MATCHES " \\./${expected}$")
+      set(found "${line}")
+    endif()
+  endforeach()
+  if(NOT found)
+    fail("the package lacks ${expected}; it holds:\n${contents}")
+  endif()
+  message(STATUS "holds ${found}")
+endforeach()
+
+execute_process(COMMAND "${DPKG_DEB}" -I ${packages} RESULT_VARIABLE result OUTPUT_VARIABLE info)
+if(NOT result EQUAL 0)
+  fail("dpkg-deb -I failed")
+endif()
+message(STATUS "${info}")
+string(REGEX MATCH "\n Depends: [^\n]*" depends "${info}")
+# Runtime libraries of the CLI (found by dpkg-shlibdeps) and what the CMake package needs.
+foreach(expected "libc6" "libstdc\\+\\+6" "libgmp10" "libcgal-dev" "libeigen3-dev"
+        "nlohmann-json3-dev")
+  if(NOT depends MATCHES "${expected}")
+    fail("the package does not depend on ${expected}: \"${depends}\"")
+  endif()
+endforeach()
+file(REMOVE_RECURSE "${work}")

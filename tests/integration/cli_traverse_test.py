@@ -1,0 +1,258 @@
+"""End-to-end tests of the traversability map: `terramesh mesh --robot` on synthetic streams (the
+exports rewritten every K keyframes), `terramesh traverse` on the finished mesh, and bad input.
+Files are parsed here independently of the C++ readers (PLY header and size, PGM, map YAML).
+
+Run by ctest with: python3 -m unittest cli_traverse_test (TERRAMESH_BIN and TERRAMESH_SHARED_DIR set).
+"""
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+BIN = os.environ["TERRAMESH_BIN"]
+SHARED = os.environ["TERRAMESH_SHARED_DIR"]
+SOURCE = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+CHECKER = os.path.join(SHARED, "tools", "check_mesh.py")
+ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
+
+FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 7 * 4 + 4 + 1  # list, cost, lethal, unknown, 7 floats, rays, steiner
+VERTEX_BYTES = 3 * 8 + 1 + 4  # x y z, steiner, cost
+
+
+def run(*args):
+    return subprocess.run([BIN, *args], capture_output=True, text=True, timeout=900)
+
+
+def read_simple_yaml(path):
+    """Top-level `key: value` lines of a flat YAML file (comments skipped)."""
+    values = {}
+    with open(path) as f:
+        for line in f:
+            line = line.split("#", 1)[0].rstrip()
+            if not line or line.startswith(" "):
+                continue
+            key, _, value = line.partition(":")
+            values[key.strip()] = value.strip()
+    return values
+
+
+def read_pgm(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    tokens, pos = [], 0
+    while len(tokens) < 4:
+        while data[pos:pos + 1].isspace():
+            pos += 1
+        if data[pos:pos + 1] == b"#":
+            pos = data.index(b"\n", pos) + 1
+            continue
+        end = pos
+        while not data[end:end + 1].isspace():
+            end += 1
+        tokens.append(data[pos:end].decode())
+        pos = end
+    pos += 1  # one whitespace after maxval
+    assert tokens[0] == "P5", tokens
+    width, height, maxval = int(tokens[1]), int(tokens[2]), int(tokens[3])
+    pixels = data[pos:]
+    return width, height, maxval, pixels
+
+
+def read_ply_header(path):
+    with open(path, "rb") as f:
+        header = b""
+        while not header.endswith(b"end_header\n"):
+            line = f.readline()
+            if not line:
+                raise AssertionError("no end_header")
+            header += line
+    lines = header.decode().splitlines()
+    elements, current = [], None
+    for line in lines:
+        words = line.split()
+        if words[0] == "element":
+            current = {"name": words[1], "count": int(words[2]), "properties": []}
+            elements.append(current)
+        elif words[0] == "property":
+            current["properties"].append(words[-1])
+    return lines, elements, len(header)
+
+
+def class_counts(summary_path):
+    with open(summary_path) as f:
+        text = f.read()
+    match = re.search(r"faces: (\d+) \(free (\d+), lethal (\d+), unknown (\d+)\)", text)
+    levels = int(re.search(r"^levels: (\d+)$", text, re.M).group(1))
+    return tuple(int(g) for g in match.groups()), levels
+
+
+class TempDirCase(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="terramesh_traverse_")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def path(self, *names):
+        return os.path.join(self.dir, *names)
+
+    def generate(self, scene, *args):
+        data = self.path(scene)
+        result = run("generate", scene, "-o", data, "--quiet", "--seed", "1", *args)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return os.path.join(data, "stream.tmstream")
+
+    def mesh_with_robot(self, stream, name):
+        out = self.path(name)
+        result = run("mesh", stream, "-o", out, "--robot", ROBOT, "--export-every", "5", "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return out
+
+    def assert_map_directory(self, out, levels):
+        for name in ["traversability.ply", "robot.yaml", "map_frame.yaml", "traversability_summary.txt"]:
+            self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
+        self.assertFalse([n for n in os.listdir(out) if n.startswith(".")], "temporary files left behind")
+        lines, elements, header_size = read_ply_header(os.path.join(out, "traversability.ply"))
+        self.assertIn("format binary_little_endian 1.0", lines)
+        vertex, face = elements
+        self.assertEqual(vertex["properties"], ["x", "y", "z", "steiner", "cost"])
+        self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "slope_deg", "step_m",
+                                              "roughness_m", "contact", "contact_best", "clearance_m",
+                                              "lethal_distance_m", "rays", "steiner"])
+        self.assertEqual(os.path.getsize(os.path.join(out, "traversability.ply")),
+                         header_size + vertex["count"] * VERTEX_BYTES + face["count"] * FACE_BYTES)
+        for level in range(levels):
+            for suffix, mode, image in [("", "trinary", ".pgm"), ("_cost", "scale", ".png")]:
+                meta = read_simple_yaml(os.path.join(out, f"level_{level}{suffix}.yaml"))
+                self.assertEqual(meta["image"], f"level_{level}{suffix}{image}")
+                self.assertEqual(meta["mode"], mode)
+                self.assertEqual(meta["negate"], "0")
+                self.assertEqual(float(meta["occupied_thresh"]), 0.65)
+                self.assertEqual(float(meta["free_thresh"]), 0.196)
+                self.assertEqual(float(meta["resolution"]), 0.1)
+                self.assertEqual(len(json.loads(meta["origin"])), 3)
+                self.assertTrue(os.path.isfile(os.path.join(out, meta["image"])))
+            width, height, maxval, pixels = read_pgm(os.path.join(out, f"level_{level}.pgm"))
+            self.assertEqual(maxval, 255)
+            self.assertEqual(len(pixels), width * height)
+            self.assertLessEqual(set(pixels), {0, 205, 254})
+            self.assertGreater(pixels.count(254), 1000, "a level has free cells")
+            self.assertTrue(os.path.isfile(os.path.join(out, f"layers_level_{level}.tif")))
+        self.assertFalse(os.path.exists(os.path.join(out, f"level_{levels}.pgm")))
+        if shutil.which("gdalinfo"):
+            info = json.loads(subprocess.run(["gdalinfo", "-json", os.path.join(out, "layers_level_0.tif")],
+                                             capture_output=True, text=True, check=True).stdout)
+            self.assertEqual([b["description"] for b in info["bands"]],
+                             ["cost", "class", "slope_deg", "step_m", "roughness_m", "contact", "clearance_m",
+                              "rays", "height_m"])
+            self.assertTrue(all(b["type"] == "Float32" and str(b["noDataValue"]).lower() == "nan" for b in info["bands"]))
+
+
+class StreetTest(TempDirCase):
+    def test_online_map_and_traverse_on_the_mesh_agree(self):
+        stream = self.generate("street", "--length-m", "60")
+        out = self.mesh_with_robot(stream, "online")
+        counts, levels = class_counts(os.path.join(out, "traversability_summary.txt"))
+        self.assertEqual(levels, 1, "a street is one level")
+        self.assert_map_directory(out, levels)
+        checked = subprocess.run(["python3", CHECKER, os.path.join(out, "mesh.ply"), "--json"], capture_output=True,
+                                 text=True, timeout=300)
+        self.assertEqual(checked.returncode, 0, checked.stdout + checked.stderr)
+        with open(os.path.join(out, "summary.txt")) as f:
+            self.assertIn("traversability: robot small_wheeled", f.read())
+        with open(os.path.join(out, "traversability_updates.csv")) as f:
+            rows = list(csv.DictReader(f))
+        with open(os.path.join(out, "keyframes.csv")) as f:
+            events = list(csv.DictReader(f))
+        self.assertEqual(len(rows), len(events) + 1)  # one per event, then the final export
+        self.assertEqual(rows[-1]["event"], "end")
+        self.assertTrue(all(float(r["layer_update_s"]) >= 0 for r in rows))
+        self.assertEqual(int(rows[-1]["faces_total"]), counts[0])
+        exports = [r for r in rows if float(r["export_s"]) > 0]
+        self.assertGreaterEqual(len(exports), int(rows[-1]["keyframes"]) // 5)
+
+        # The same robot on the finished mesh, with the up vector the online run estimated.
+        up = read_simple_yaml(os.path.join(out, "map_frame.yaml"))["up"]
+        up = ",".join(repr(v) for v in json.loads(up))
+        offline = self.path("offline")
+        result = run("traverse", os.path.join(out, "mesh.ply"), "--robot", ROBOT, "-o", offline, "--up=" + up,
+                     "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        offline_counts, offline_levels = class_counts(os.path.join(offline, "traversability_summary.txt"))
+        self.assertEqual(offline_levels, levels)
+        # Same faces; the file has no ray counts, so faces the online map left unknown for too few
+        # rays count as measured offline: unknown can only shrink, and only into free or lethal.
+        self.assertEqual(offline_counts[0], counts[0])
+        self.assertLessEqual(offline_counts[3], counts[3])
+        self.assertEqual(offline_counts, counts, "mesh.ply has every Steiner flag; the street's faces all "
+                                                 "have enough rays, so the classes must agree")
+        self.assert_map_directory(offline, offline_levels)
+
+
+class GarageTest(TempDirCase):
+    def test_two_floors_give_two_levels(self):
+        stream = self.generate("garage", "--length-m", "40")
+        out = self.mesh_with_robot(stream, "garage")
+        _, levels = class_counts(os.path.join(out, "traversability_summary.txt"))
+        self.assertEqual(levels, 2)
+        self.assert_map_directory(out, levels)
+        heights = [float(m) for m in re.findall(r"^level \d+: mean height ([-\d.e]+) m",
+                                                 open(os.path.join(out, "traversability_summary.txt")).read(), re.M)]
+        self.assertGreater(heights[1] - heights[0], 1.5, "the levels are a storey apart")
+
+
+class BadInputTest(TempDirCase):
+    def assert_rejected(self, args, output, *fragments):
+        result = run(*args)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        lines = result.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, result.stderr)
+        for fragment in fragments:
+            self.assertIn(fragment, lines[0])
+        self.assertFalse(os.path.exists(output), "no output may be written for bad input")
+
+    def setUp(self):
+        super().setUp()
+        self.stream = self.generate("street", "--length-m", "30")
+        self.mesh = self.path("mesh.ply")
+        # A tiny valid mesh for traverse.
+        with open(self.mesh, "w") as f:
+            f.write("ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+                    "property double z\nelement face 1\nproperty list uchar uint vertex_indices\nend_header\n"
+                    "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+
+    def bad_robot(self, text):
+        path = self.path("bad_robot.yaml")
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def test_bad_robot_yaml_exits_2_naming_file_and_key(self):
+        robot = self.bad_robot("name: r\nmax_slope_deg: steep\n")
+        out = self.path("out")
+        self.assert_rejected(["mesh", self.stream, "-o", out, "--robot", robot], out, "bad_robot.yaml",
+                             "max_slope_deg")
+        self.assert_rejected(["traverse", self.mesh, "-o", out, "--robot", robot], out, "bad_robot.yaml",
+                             "max_slope_deg")
+        robot = self.bad_robot("name: r\nwheel_count: 4\n")
+        self.assert_rejected(["traverse", self.mesh, "-o", out, "--robot", robot], out, "wheel_count")
+        self.assert_rejected(["traverse", self.mesh, "-o", out, "--robot", self.path("missing.yaml")], out,
+                             "missing.yaml")
+
+    def test_bad_options_exit_2(self):
+        out = self.path("out")
+        self.assert_rejected(["traverse", self.mesh, "-o", out, "--robot", ROBOT, "--up", "0,0"], out, "--up")
+        self.assert_rejected(["traverse", self.mesh, "-o", out, "--robot", ROBOT, "--grid-resolution-m", "0"], out,
+                             "--grid-resolution-m")
+        self.assert_rejected(["traverse", self.mesh, "-o", out], out, "--robot")
+        self.assert_rejected(["mesh", self.stream, "-o", out, "--export-every", "5"], out, "--robot")
+        self.assert_rejected(["mesh", self.stream, "-o", out, "--robot", ROBOT, "--export-every", "-1"], out,
+                             "--export-every")
+
+
+if __name__ == "__main__":
+    unittest.main()

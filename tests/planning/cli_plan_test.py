@@ -1,0 +1,92 @@
+"""End-to-end: terramesh generate -> mesh -> traverse -> plan, and planner_demo against the truth."""
+import csv
+import os
+import subprocess
+import tempfile
+import unittest
+
+BIN = os.environ.get("TERRAMESH_BIN", "terramesh")
+DEMO = os.environ.get("PLANNER_DEMO_BIN", "planner_demo")
+
+
+def run(*args):
+    return subprocess.run([str(a) for a in args], capture_output=True, text=True, timeout=600)
+
+
+class PlanStreetTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        d = cls.tmp.name
+        robot = os.path.join(os.path.dirname(__file__), "..", "..", "traversability", "robots", "small_wheeled.yaml")
+        for args in (("generate", "street", "--length-m", "60", "-o", f"{d}/scene", "--quiet"),
+                     ("mesh", f"{d}/scene/stream.tmstream", "-o", f"{d}/mesh", "--quiet"),
+                     ("traverse", f"{d}/mesh/mesh.ply", "--robot", robot, "-o", f"{d}/map", "--no-geotiff", "--quiet")):
+            result = run(BIN, *args)
+            assert result.returncode == 0, result.stderr
+        cls.dir = d
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_random_pairs_and_benchmark_database(self):
+        out = f"{self.dir}/pairs"
+        result = run(BIN, "plan", f"{self.dir}/map", "--random-pairs", "3", "--time-budget-s", "0.5", "-o", out, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(f"{out}/pairs.csv") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 3)
+        for row in rows:
+            self.assertEqual(row["status"], "solved")
+            # The graph optimum is no worse than the sampling planner's, up to discretisation.
+            self.assertLessEqual(float(row["graph_cost"]), float(row["cost"]) * 1.02)
+        db = f"{out}/bench.db"
+        result = run("python3", "/usr/bin/ompl_benchmark_statistics", f"{out}/benchmark.log", "-d", db)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        import sqlite3
+        count = sqlite3.connect(db).execute("SELECT count(*) FROM runs").fetchone()[0]
+        self.assertEqual(count, 6)  # 3 pairs x (planner + graph baseline)
+
+    def test_single_query_outputs(self):
+        out = f"{self.dir}/pairs1"
+        self.assertEqual(run(BIN, "plan", f"{self.dir}/map", "--random-pairs", "1", "-o", out, "--quiet").returncode, 0)
+        with open(f"{out}/pairs.csv") as f:
+            row = next(csv.DictReader(f))
+        start = [row["start_x"], row["start_y"], row["start_z"]]
+        goal = [row["goal_x"], row["goal_y"], row["goal_z"]]
+        single = f"{self.dir}/single"
+        result = run(BIN, "plan", f"{self.dir}/map", "--start", *start, "--goal", *goal, "-o", single,
+                     "--time-budget-s", "0.5", "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(f"{single}/path.csv") as f:
+            lines = f.read().splitlines()
+        self.assertEqual(lines[0], "x,y,z,yaw,face,cost")
+        self.assertGreaterEqual(len(lines), 3)
+        with open(f"{single}/path.ply") as f:
+            ply = f.read()
+        self.assertIn(f"element vertex {len(lines) - 1}", ply)
+        self.assertIn(f"element edge {len(lines) - 2}", ply)
+        with open(f"{single}/plan.txt") as f:
+            self.assertIn("status solved", f.read())
+
+    def test_goal_in_unobserved_region_is_unreachable(self):
+        result = run(BIN, "plan", f"{self.dir}/map", "--start", "0", "0", "0", "--goal", "30", "0", "40",
+                     "-o", f"{self.dir}/unreachable")
+        self.assertEqual(result.returncode, 3, result.stderr)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1)
+        self.assertIn("plan:", result.stderr)
+
+    def test_demo_compares_with_octomap_on_ground_truth(self):
+        out = f"{self.dir}/demo"
+        result = run(DEMO, f"{self.dir}/scene", f"{self.dir}/map", out, "--pairs", "3", "--time-budget-s", "0.5")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        for name in ("octomap.bt", "mesh.log", "octomap.log", "comparison.md", "pairs.csv"):
+            self.assertTrue(os.path.exists(f"{out}/{name}"), name)
+        with open(f"{out}/pairs.csv") as f:
+            rows = [r for r in csv.DictReader(f) if r["map"] == "mesh" and r["status"] == "solved"]
+        self.assertEqual(len(rows), 3)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,209 @@
+// Planning on the surface over hand-built maps with known geometry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "planning/face_graph.h"
+#include "planning/surface_planner.h"
+#include "planning_fixtures.h"
+
+namespace terramesh::planning {
+namespace {
+
+using traversability::FaceClass;
+
+class SurfacePlannerTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    setOmplLogging(false);
+    seedOmpl(7);
+  }
+};
+
+WalkabilityConfig walkability() {
+  WalkabilityConfig config;
+  config.min_lethal_distance_m = 0.3;
+  return config;
+}
+
+PlannerConfig plannerConfig(const std::string& name, double budget_s) {
+  PlannerConfig config;
+  config.planner = name;
+  config.time_budget_s = budget_s;
+  config.seed = 3;
+  return config;
+}
+
+/// Every state on a free face of the map, every piece between states inside one face or across
+/// a shared edge of two walkable faces (checked by the faces' shared vertices), and the length
+/// equal to the polyline's.
+void expectOnWalkableSurface(const FaceGraph& graph, const PlanResult& result) {
+  ASSERT_GE(result.states.size(), 2u);
+  double length = 0;
+  for (std::size_t i = 0; i < result.states.size(); ++i) {
+    const SurfaceLocation& location = result.states[i].location;
+    ASSERT_LT(location.face, graph.faceCount());
+    EXPECT_TRUE(graph.walkable(location.face)) << "state " << i << " on face " << location.face;
+    EXPECT_EQ(graph.layers(location.face).face_class, FaceClass::kFree);
+    const auto& t = graph.face(location.face);
+    // The point lies on its face: distance to the face's plane ~ 0 and barycentric coords >= 0.
+    const Eigen::Vector3d n = graph.normal(location.face);
+    EXPECT_NEAR((location.point_W - graph.vertex(t[0])).dot(n), 0.0, 1e-6) << "state " << i;
+    if (i > 0) {
+      const SurfaceLocation& previous = result.states[i - 1].location;
+      length += (location.point_W - previous.point_W).norm();
+      // The piece lies on the previous state's face: its end is on that face's plane.
+      const auto& tp = graph.face(previous.face);
+      EXPECT_NEAR((location.point_W - graph.vertex(tp[0])).dot(graph.normal(previous.face)), 0.0, 1e-6)
+          << "piece " << i << " leaves the surface";
+    }
+  }
+  EXPECT_NEAR(length * graph.metresPerUnit(), result.length_m, 1e-6);
+  EXPECT_GE(result.cost, result.length_m - 1e-9);
+}
+
+/// Whether the segment (a, b) in the plane z = 0 meets the axis-aligned rectangle.
+bool segmentMeetsRectangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double x0, double x1, double y0, double y1) {
+  for (int k = 0; k <= 200; ++k) {
+    const Eigen::Vector3d p = a + (b - a) * (k / 200.0);
+    if (p.x() > x0 && p.x() < x1 && p.y() > y0 && p.y() < y1) return true;
+  }
+  return false;
+}
+
+TEST_F(SurfacePlannerTest, RoundTheWallThroughTheGapWithEveryPlanner) {
+  const FaceGraph graph(test::wallWithGapMap(), walkability());
+  const Eigen::Vector3d start(3, 2, 0), goal(17, 2, 0);
+  const PlanResult baseline = planOnFaceGraph(graph, start, goal, plannerConfig("rrtstar", 1));
+  ASSERT_TRUE(baseline.solved()) << baseline.reason;
+  // Any way round the strip's end (x in 9.5..10.5, y < 7) is at least this long.
+  const double lower_bound = (Eigen::Vector2d(9.5, 7) - Eigen::Vector2d(3, 2)).norm() + 1.0 +
+                             (Eigen::Vector2d(17, 2) - Eigen::Vector2d(10.5, 7)).norm();
+  EXPECT_GE(baseline.length_m, lower_bound - 1e-6);
+  for (const std::string& name : plannerNames()) {
+    SCOPED_TRACE(name);
+    const PlanResult result = planOnSurface(graph, start, goal, plannerConfig(name, 0.7));
+    ASSERT_TRUE(result.solved()) << result.reason;
+    expectOnWalkableSurface(graph, result);
+    EXPECT_GE(result.length_m, lower_bound - 1e-6);
+    for (std::size_t i = 1; i < result.states.size(); ++i) {
+      EXPECT_FALSE(segmentMeetsRectangle(result.states[i - 1].location.point_W, result.states[i].location.point_W,
+                                         9.5, 10.5, 0, 7))
+          << "piece " << i << " crosses the lethal strip";
+    }
+    EXPECT_NEAR((result.states.front().location.point_W - start).norm(), 0.0, 1e-9);
+    EXPECT_NEAR((result.states.back().location.point_W - goal).norm(), 0.0, 1e-9);
+    // The graph optimum is no worse than any planner's, up to its discretisation (4 points per
+    // 0.5 m edge: within 1%).
+    EXPECT_LE(baseline.cost, result.cost * 1.01) << "graph " << baseline.cost << " planner " << result.cost;
+  }
+}
+
+TEST_F(SurfacePlannerTest, BetweenFloorsOnlyOverTheRamp) {
+  const FaceGraph graph(test::twoLevelMap(), walkability());
+  // Directly above each other: level 0 and level 1 at (6, 7).
+  const Eigen::Vector3d start(6, 7, 0), goal(6, 7, 3);
+  const PlanResult baseline = planOnFaceGraph(graph, start, goal, plannerConfig("rrtstar", 1));
+  ASSERT_TRUE(baseline.solved()) << baseline.reason;
+  // RRT* is left out: with Euclidean nearest neighbours its tree keeps trying to join states to
+  // the floor below and rarely reaches the far floor in a few seconds (docs/planning.md).
+  for (const std::string& name : {std::string("bitstar"), std::string("prmstar"), std::string("aitstar")}) {
+    SCOPED_TRACE(name);
+    const PlanResult result = planOnSurface(graph, start, goal, plannerConfig(name, 4.0));
+    ASSERT_TRUE(result.solved()) << result.reason;
+    expectOnWalkableSurface(graph, result);
+    bool on_ramp = false;
+    for (std::size_t i = 1; i < result.states.size(); ++i) {
+      const Eigen::Vector3d& a = result.states[i - 1].location.point_W;
+      const Eigen::Vector3d& b = result.states[i].location.point_W;
+      if (a.x() > 21 && a.x() < 39 && a.z() > 0.1 && a.z() < 2.9) on_ramp = true;
+      // No jumps: a piece climbs at most as steeply as the ramp.
+      const double horizontal = (b - a).head<2>().norm();
+      EXPECT_LE(std::abs(b.z() - a.z()), horizontal * 3.0 / 20.0 + 1e-6) << "piece " << i << " jumps";
+    }
+    EXPECT_TRUE(on_ramp);
+    // Out to the ramp's far end and back: at least 2 * (40 - 6) minus the ramp's width.
+    EXPECT_GT(result.length_m, 60.0);
+    EXPECT_LE(baseline.cost, result.cost * 1.01) << "graph " << baseline.cost << " planner " << result.cost;
+  }
+}
+
+TEST_F(SurfacePlannerTest, ObstacleTopAndUnknownRegionAreReportedUnreachable) {
+  const FaceGraph graph(test::twoLevelMap(), walkability());
+  const PlannerConfig config = plannerConfig("rrtstar", 0.5);
+  const PlanResult on_box = planOnSurface(graph, {6, 7, 0}, {11, 2, 1}, config);
+  EXPECT_EQ(on_box.status, PlanStatus::kUnreachable) << on_box.reason;
+  EXPECT_FALSE(on_box.reason.empty());
+  const PlanResult unknown = planOnSurface(graph, {6, 7, 0}, {3, 2, 0}, config);
+  EXPECT_EQ(unknown.status, PlanStatus::kNoGoal) << unknown.reason;
+  const PlanResult far_away = planOnSurface(graph, {6, 7, 10}, {15, 7, 0}, config);
+  EXPECT_EQ(far_away.status, PlanStatus::kNoStart);
+  EXPECT_EQ(planOnFaceGraph(graph, {6, 7, 0}, {11, 2, 1}, config).status, PlanStatus::kUnreachable);
+}
+
+TEST_F(SurfacePlannerTest, StartAndGoalInTheSameFace) {
+  const FaceGraph graph(test::wallWithGapMap(), walkability());
+  const Eigen::Vector3d start(3.3, 2.1, 0), goal(3.4, 2.15, 0);
+  ASSERT_EQ(graph.snap(start, 0.1)->face, graph.snap(goal, 0.1)->face);
+  const PlanResult result = planOnSurface(graph, start, goal, plannerConfig("rrtstar", 0.3));
+  ASSERT_TRUE(result.solved()) << result.reason;
+  EXPECT_NEAR(result.length_m, (goal - start).norm(), 1e-9);
+  EXPECT_NEAR(result.cost, (goal - start).norm() * (1 + 4.0 * 0.2), 1e-6);
+}
+
+TEST(FaceGraphTest, WalkStopsAtLethalFacesAndBoundaries) {
+  const FaceGraph graph(test::wallWithGapMap(), walkability());
+  const SurfaceLocation a = *graph.snap({3, 2, 0}, 0.1);
+  const SurfaceLocation b = *graph.snap({17, 2, 0}, 0.1);
+  EXPECT_EQ(graph.walk(a, b, true).stop, WalkStop::kBlocked);
+  const SurfaceWalk free_walk = graph.walk(a, b, false);
+  ASSERT_TRUE(free_walk.reached());
+  EXPECT_NEAR(free_walk.length_m, 14.0, 1e-6);
+  // Out of the map: the walk meets the boundary edge.
+  const SurfaceWalk out = graph.walk(a, SurfaceLocation{FaceGraph::kNoFace, {3, -5, 0}}, false);
+  EXPECT_EQ(out.stop, WalkStop::kBoundary);
+  EXPECT_NEAR(out.points.back().point_W.y(), 0.0, 1e-9);
+}
+
+TEST(FaceGraphTest, OneComponentPerFloorAndTheBoxTop) {
+  const FaceGraph graph(test::twoLevelMap(), walkability());
+  // Floors + ramp + landing are one component (their area: 200 + 80 + 40 + 240 m^2 less the box
+  // footprint, the unknown patch and the faces within 0.3 m of the box); the box top is apart.
+  std::uint32_t largest = 0;
+  for (std::uint32_t c = 0; c < graph.componentCount(); ++c) {
+    if (graph.componentArea(c) > graph.componentArea(largest)) largest = c;
+  }
+  EXPECT_GT(graph.componentArea(largest), 540.0);
+  EXPECT_LT(graph.componentArea(largest), 552.0);
+  const auto ground = graph.snap({6, 7, 0}, 0.1), upper = graph.snap({6, 7, 3}, 0.1), box = graph.snap({11, 2, 1}, 0.1);
+  ASSERT_TRUE(ground && upper && box);
+  EXPECT_EQ(graph.component(ground->face), largest);
+  EXPECT_EQ(graph.component(ground->face), graph.component(upper->face));
+  EXPECT_NE(graph.component(ground->face), graph.component(box->face));
+  // Snapping does not fall through to the other floor.
+  EXPECT_NEAR(graph.snap({6, 7, 2.9}, 0.5)->point_W.z(), 3.0, 1e-12);
+}
+
+TEST(PlannerConfigTest, ValidateListsEveryProblem) {
+  PlannerConfig config;
+  config.planner = "dijkstra";
+  config.time_budget_s = 0;
+  config.seed = 0;
+  try {
+    config.validate();
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& error) {
+    const std::string text = error.what();
+    EXPECT_NE(text.find("planner"), std::string::npos);
+    EXPECT_NE(text.find("time_budget_s"), std::string::npos);
+    EXPECT_NE(text.find("seed"), std::string::npos);
+  }
+  config = PlannerConfig{};
+  for (const char* name : {"RRT*", "informed RRT*", "PRM*", "LazyPRM*", "BIT*", "AIT*"}) {
+    config.planner = name;
+    EXPECT_NO_THROW(config.validate()) << name;
+  }
+}
+
+}  // namespace
+}  // namespace terramesh::planning

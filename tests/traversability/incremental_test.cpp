@@ -1,0 +1,272 @@
+// Oracle tests: after any sequence of apply(), the layers equal reset() on the same surface,
+// bit for bit. Deltas come from random edits of a hand-made surface and from the mesher
+// (Mesher::changesSince) while it meshes analytic scenes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "mesher/mesher.h"
+#include "test_support/traversability_scenes.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::traversability {
+namespace {
+
+using mesher::FaceKey;
+using mesher::SurfaceFace;
+using FaceMap = std::map<FaceKey, SurfaceFace>;
+
+const std::filesystem::path kRobots = std::filesystem::path(TERRAMESH_SOURCE_DIR) / "traversability" / "robots";
+
+bool same(float a, float b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
+
+/// Every layer of every face equal (NaN equal to NaN); reports the first difference.
+::testing::AssertionResult sameLayers(const LayeredMesh& a, const LayeredMesh& b) {
+  if (a.face_keys != b.face_keys) return ::testing::AssertionFailure() << "different faces";
+  for (std::size_t f = 0; f < a.layers.size(); ++f) {
+    const FaceLayers& x = a.layers[f];
+    const FaceLayers& y = b.layers[f];
+    const bool equal = same(x.slope_deg, y.slope_deg) && same(x.step_m, y.step_m) &&
+                       same(x.roughness_m, y.roughness_m) && same(x.contact, y.contact) &&
+                       same(x.contact_best, y.contact_best) && same(x.clearance_m, y.clearance_m) &&
+                       same(x.lethal_distance_m, y.lethal_distance_m) && x.rays == y.rays &&
+                       x.steiner == y.steiner && x.face_class == y.face_class && same(x.cost, y.cost);
+    if (!equal) {
+      return ::testing::AssertionFailure()
+             << "face " << f << " of " << a.layers.size() << ": slope " << x.slope_deg << "/" << y.slope_deg
+             << " step " << x.step_m << "/" << y.step_m << " rough " << x.roughness_m << "/" << y.roughness_m
+             << " contact " << x.contact << "/" << y.contact << " clearance " << x.clearance_m << "/"
+             << y.clearance_m << " distance " << x.lethal_distance_m << "/" << y.lethal_distance_m << " rays "
+             << x.rays << "/" << y.rays << " class " << int(x.face_class) << "/" << int(y.face_class) << " cost "
+             << x.cost << "/" << y.cost;
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+std::vector<SurfaceFace> facesOf(const FaceMap& map) {
+  std::vector<SurfaceFace> faces;
+  for (const auto& [key, face] : map) faces.push_back(face);
+  return faces;
+}
+
+/// A height-field surface whose vertex heights and face ray counts the test edits.
+class EditableSurface {
+ public:
+  EditableSurface() : mesh_(test::heightFieldMesh(-5, 5, -5, 5, 0.25, [](double, double) { return 0.0; })) {
+    for (std::size_t f = 0; f < mesh_.faces.size(); ++f) rays_.push_back(10);
+    present_.assign(mesh_.faces.size(), true);
+  }
+
+  FaceMap faces() const {
+    FaceMap map;
+    for (std::size_t f = 0; f < mesh_.faces.size(); ++f) {
+      if (present_[f]) map.emplace(keyOf(f), face(f));
+    }
+    return map;
+  }
+
+  /// One random edit: raise or lower the vertices in a disc (a bump, a pit, a block), cut or
+  /// restore a patch, or change the ray counts of a patch. Returns the delta from before.
+  mesher::SurfaceDelta edit(std::mt19937& rng) {
+    std::uniform_real_distribution<double> coord(-5, 5), unit(0, 1);
+    const Eigen::Vector2d centre(coord(rng), coord(rng));
+    const double radius = 0.3 + 1.2 * unit(rng);
+    const int kind = static_cast<int>(rng() % 3);
+    mesher::SurfaceDelta delta;
+    std::vector<bool> hit(mesh_.faces.size(), false);
+    const double dz = unit(rng) < 0.5 ? 0.6 * unit(rng) : -0.3 * unit(rng);
+    std::vector<bool> moved(mesh_.vertices.size(), false);
+    for (std::size_t v = 0; v < mesh_.vertices.size(); ++v) {
+      if ((mesh_.vertices[v].head<2>() - centre).norm() < radius) moved[v] = true;
+    }
+    for (std::size_t f = 0; f < mesh_.faces.size(); ++f) {
+      for (std::uint32_t v : mesh_.faces[f]) hit[f] = hit[f] || moved[v];
+    }
+    if (kind == 0) {
+      for (std::size_t v = 0; v < moved.size(); ++v) {
+        if (moved[v]) mesh_.vertices[v].z() += dz;
+      }
+    }
+    for (std::size_t f = 0; f < mesh_.faces.size(); ++f) {
+      if (!hit[f]) continue;
+      if (present_[f]) delta.removed.push_back(keyOf(f));
+      if (kind == 1) present_[f] = !present_[f];
+      if (kind == 2) rays_[f] = static_cast<std::uint32_t>(rng() % 6);
+      if (present_[f]) delta.added.push_back(face(f));
+    }
+    return delta;
+  }
+
+ private:
+  FaceKey keyOf(std::size_t f) const {
+    const auto& t = mesh_.faces[f];
+    return FaceKey::of(mesher::VertexKey{t[0], false}, mesher::VertexKey{t[1], false}, mesher::VertexKey{t[2], false});
+  }
+  SurfaceFace face(std::size_t f) const {
+    SurfaceFace face;
+    for (int i = 0; i < 3; ++i) {
+      face.vertices[i] = mesher::VertexKey{mesh_.faces[f][i], false};
+      face.positions_W[i] = mesh_.vertices[mesh_.faces[f][i]];
+    }
+    face.key = keyOf(f);
+    face.rays = rays_[f];
+    return face;
+  }
+
+  mesher::TriangleMesh mesh_;
+  std::vector<std::uint32_t> rays_;
+  std::vector<bool> present_;
+};
+
+TEST(IncrementalTest, RandomEditsEqualFullRecomputation) {
+  for (const char* robot : {"small_wheeled", "legged"}) {
+    const RobotProfile profile = loadRobotProfile(kRobots / (std::string(robot) + ".yaml"));
+    EditableSurface surface;
+    TraversabilityMap map(profile, MapFrame{});
+    map.reset(facesOf(surface.faces()));
+    std::mt19937 rng(11);
+    std::size_t lethal_seen = 0, unknown_seen = 0;
+    for (int step = 0; step < 25; ++step) {
+      const LayerUpdateStats stats = map.apply(surface.edit(rng));
+      EXPECT_LE(stats.faces_recomputed, stats.faces_total);
+      TraversabilityMap fresh(profile, MapFrame{});
+      fresh.reset(facesOf(surface.faces()));
+      const LayeredMesh expected = fresh.snapshot();
+      ASSERT_TRUE(sameLayers(map.snapshot(), expected)) << robot << " after edit " << step;
+      for (const FaceLayers& l : expected.layers) {
+        lethal_seen += l.face_class == FaceClass::kLethal;
+        unknown_seen += l.face_class == FaceClass::kUnknown;
+      }
+    }
+    EXPECT_GT(lethal_seen, 0u) << "the edits must create lethal faces for the test to mean anything";
+    EXPECT_GT(unknown_seen, 0u);
+  }
+}
+
+TEST(IncrementalTest, FacesReaddedWithTheSameGeometryAreNotChanges) {
+  const RobotProfile profile = loadRobotProfile(kRobots / "small_wheeled.yaml");
+  EditableSurface surface;
+  FaceMap faces = surface.faces();
+  TraversabilityMap map(profile, MapFrame{});
+  map.reset(facesOf(faces));
+  const auto expectEqualsFull = [&](const char* what) {
+    TraversabilityMap fresh(profile, MapFrame{});
+    fresh.reset(facesOf(faces));
+    EXPECT_TRUE(sameLayers(map.snapshot(), fresh.snapshot())) << what;
+  };
+  // Every face removed and re-added unchanged (mesher churn): nothing to recompute.
+  mesher::SurfaceDelta churn;
+  for (const auto& [key, face] : faces) {
+    churn.removed.push_back(key);
+    churn.added.push_back(face);
+  }
+  LayerUpdateStats stats = map.apply(churn);
+  EXPECT_EQ(stats.faces_readded_unchanged, faces.size());
+  EXPECT_EQ(stats.faces_recomputed, 0u);
+  EXPECT_EQ(stats.faces_total, faces.size());
+  expectEqualsFull("after churn");
+
+  // Re-added with a new observation count only: the face is re-judged (now unknown), its
+  // neighbours' local layers are not recomputed.
+  SurfaceFace& first = faces.begin()->second;
+  first.rays = 0;
+  stats = map.apply(mesher::SurfaceDelta{0, 0, true, {first.key}, {first}, {}});
+  EXPECT_EQ(stats.faces_readded_unchanged, 1u);
+  EXPECT_GE(stats.faces_recomputed, 1u);
+  expectEqualsFull("after a ray count change");
+  EXPECT_EQ(map.snapshot().layers.front().face_class, FaceClass::kUnknown);
+
+  // The same key with a vertex moved by a nanometre is a real change.
+  SurfaceFace& last = faces.rbegin()->second;
+  last.positions_W[0].z() += 1e-9;
+  stats = map.apply(mesher::SurfaceDelta{0, 0, true, {last.key}, {last}, {}});
+  EXPECT_EQ(stats.faces_readded_unchanged, 0u);
+  EXPECT_GT(stats.faces_recomputed, 1u);
+  expectEqualsFull("after a vertex moved");
+}
+
+TEST(IncrementalTest, CeilingMovingOverAFloorEqualsFullRecomputation) {
+  // Multi-level: an upper floor over the lower one; edits below must not disturb the upper floor
+  // beyond what a full recomputation gives.
+  RobotProfile profile = loadRobotProfile(kRobots / "small_wheeled.yaml");
+  mesher::TriangleMesh lower = test::heightFieldMesh(-3, 3, -3, 3, 0.25, [](double, double) { return 0.0; });
+  test::appendMesh(lower, test::horizontalQuad(-1, 1, -1, 1, 0.45, true));
+  std::vector<SurfaceFace> faces;
+  for (std::size_t f = 0; f < lower.faces.size(); ++f) {
+    SurfaceFace face;
+    for (int i = 0; i < 3; ++i) {
+      face.vertices[i] = mesher::VertexKey{lower.faces[f][i], false};
+      face.positions_W[i] = lower.vertices[lower.faces[f][i]];
+    }
+    face.key = FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
+    face.rays = 5;
+    faces.push_back(face);
+  }
+  TraversabilityMap map(profile, MapFrame{});
+  map.reset(faces);
+  // Raise the ceiling above the robot: the faces under it become free, then lower it again.
+  for (const double z : {0.8, 0.45, 0.3}) {
+    mesher::SurfaceDelta delta;
+    for (SurfaceFace& face : faces) {
+      if (face.positions_W[0].z() < 0.01) continue;
+      delta.removed.push_back(face.key);
+      for (auto& p : face.positions_W) p.z() = z;
+      delta.added.push_back(face);
+    }
+    map.apply(delta);
+    TraversabilityMap fresh(profile, MapFrame{});
+    fresh.reset(faces);
+    ASSERT_TRUE(sameLayers(map.snapshot(), fresh.snapshot())) << "ceiling at " << z;
+  }
+}
+
+void streamScene(const test::AnalyticScene& scene, const RobotProfile& profile) {
+  mesher::MesherConfig config;
+  config.steiner_step_m = 4.0;
+  mesher::Mesher mesher(config);
+  TraversabilityMap map(profile, MapFrame{});
+  std::uint64_t revision = mesher.revision();
+  std::size_t updates = 0, known = 0;
+  for (const mesher::Keyframe& keyframe : scene.keyframes) {
+    mesher.integrateKeyframe(keyframe);
+    const mesher::SurfaceDelta delta = mesher.changesSince(revision);
+    revision = delta.to_revision;
+    map.apply(delta, mesher.facesAround(delta.touched_vertices));
+    ++updates;
+    TraversabilityMap fresh(profile, MapFrame{});
+    fresh.reset(mesher.surfaceFaces());
+    const LayeredMesh expected = fresh.snapshot();
+    ASSERT_TRUE(sameLayers(map.snapshot(), expected)) << "after keyframe " << keyframe.id.value;
+    known = 0;
+    for (const FaceLayers& l : expected.layers) known += l.face_class != FaceClass::kUnknown;
+  }
+  EXPECT_GT(known, 20u) << "the scene must produce measured faces";
+  EXPECT_EQ(updates, scene.keyframes.size());
+}
+
+TEST(IncrementalTest, MesherDeltasOnACurbEqualFullRecomputation) {
+  test::SceneOptions options;
+  options.keyframes = 12;
+  options.density_per_m2 = 3.0;
+  streamScene(test::stepScene(0.15, options), loadRobotProfile(kRobots / "small_wheeled.yaml"));
+}
+
+TEST(IncrementalTest, MesherDeltasUnderALowCeilingEqualFullRecomputation) {
+  test::SceneOptions options;
+  options.keyframes = 12;
+  options.density_per_m2 = 3.0;
+  streamScene(test::lowCeilingScene(0.8, options), loadRobotProfile(kRobots / "legged.yaml"));
+}
+
+TEST(IncrementalTest, IncompleteDeltaIsRejected) {
+  TraversabilityMap map(RobotProfile{}, MapFrame{});
+  mesher::SurfaceDelta delta;
+  delta.complete = false;
+  EXPECT_THROW(map.apply(delta), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace terramesh::traversability

@@ -1,0 +1,82 @@
+// Shared by the viewer tests and the frame-rate benchmark: runs `terramesh view` on a run folder
+// and drives Debian's chromium (no browser download) through playwright-core.
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+
+export const CHROMIUM = process.env.TERRAMESH_CHROMIUM || '/usr/bin/chromium';
+export const CHROMIUM_ARGS = [
+  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+  // WebGL on the CPU: SwiftShader (newer Chromium wants it asked for explicitly).
+  '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+];
+
+/** playwright-core from the build tree's npm folder (tests/viewer/CMakeLists.txt). */
+export function playwright() {
+  const modules = process.env.TERRAMESH_VIEWER_TEST_MODULES;
+  if (!modules) throw new Error('TERRAMESH_VIEWER_TEST_MODULES is not set (run through ctest)');
+  return createRequire(join(modules, 'package.json'))('playwright-core');
+}
+
+/** Starts `terramesh view DIR --port 0 ...`; resolves {url, port, process} once it prints its URL. */
+export function startServer(binary, runDir, extraArgs = []) {
+  return new Promise((resolve, reject) => {
+    const child = spawn(binary, ['view', runDir, '--port', '0', ...extraArgs], { stdio: ['ignore', 'pipe', 'pipe'] });
+    let output = '';
+    const timer = setTimeout(() => reject(new Error(`terramesh view printed no URL in 60 s:\n${output}`)), 60000);
+    const onData = (chunk) => {
+      output += chunk.toString();
+      const match = output.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
+      if (match) {
+        clearTimeout(timer);
+        resolve({ url: match[0], port: Number(match[1]), process: child, output: () => output });
+      }
+    };
+    child.stdout.on('data', onData);
+    child.stderr.on('data', onData);
+    child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`terramesh view exited with ${code}:\n${output}`)); });
+  });
+}
+
+export function stopServer(server) {
+  if (server && server.process.exitCode === null) {
+    server.process.removeAllListeners('exit');
+    server.process.kill('SIGTERM');
+  }
+}
+
+/** A fresh headless chromium profile; returns {context, close}. */
+export async function launchBrowser() {
+  const profile = mkdtempSync(join(tmpdir(), 'terramesh-chromium-'));
+  const { chromium } = playwright();
+  const context = await chromium.launchPersistentContext(profile, {
+    executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS,
+    viewport: { width: 1100, height: 800 },
+  });
+  return {
+    context,
+    close: async () => { await context.close(); rmSync(profile, { recursive: true, force: true }); },
+  };
+}
+
+/** Opens the viewer and waits until it has drawn the final map; collects console errors. */
+export async function openViewer(context, url, timeoutMs = 120000) {
+  const page = await context.newPage();
+  const errors = [];
+  page.on('console', (message) => { if (message.type() === 'error') errors.push(message.text()); });
+  page.on('pageerror', (error) => errors.push(String(error)));
+  page.on('requestfailed', (request) => errors.push(`request failed: ${request.url()}`));
+  await page.goto(url);
+  await page.waitForFunction(() => document.body.dataset.ready, null, { timeout: timeoutMs });
+  const ready = await page.evaluate(() => document.body.dataset.ready);
+  if (ready !== 'true') throw new Error(`viewer failed: ${await page.textContent('#status')}; ${errors.join('; ')}`);
+  return { page, errors };
+}
+
+/** Waits for two animation frames (the on-demand render and its compositing). */
+export async function settle(page) {
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+}

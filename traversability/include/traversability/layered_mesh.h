@@ -1,0 +1,64 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "mesher/surface_delta.h"
+#include "mesher/triangle_mesh.h"
+
+namespace terramesh::traversability {
+
+/// Class of a face for a given robot. The numeric values are written to files: never renumber.
+enum class FaceClass : std::uint8_t {
+  kFree = 0,     ///< known and drivable, with a cost in [0, 1]
+  kLethal = 1,   ///< known and not drivable
+  kUnknown = 2,  ///< not measured (touches a Steiner vertex) or seen by too few rays
+};
+
+/// Every layer of one face, in metres and degrees (map units times metres_per_unit).
+///
+/// A layer that cannot be computed is NaN (e.g. step on a wall, clearance with no measured face
+/// above within the search height, which is reported as +infinity instead).
+struct FaceLayers {
+  float slope_deg = 0;     ///< angle between the face normal and "up"
+  float step_m = 0;        ///< largest height jump within the footprint centred on the face
+  float roughness_m = 0;   ///< RMS deviation from the plane fitted over the footprint
+  float contact = 1;       ///< supported fraction of the footprint, worst heading, [0, 1]
+  float contact_best = 1;  ///< ... best heading
+  /// Free height above the face along "up" against measured faces; +inf if none above within
+  /// the search height; NaN if the first face above is a Steiner (closing) face: unknown.
+  float clearance_m = std::numeric_limits<float>::infinity();
+  /// Geodesic distance over the surface to the nearest lethal face; +inf if none within the
+  /// inflation radius.
+  float lethal_distance_m = std::numeric_limits<float>::infinity();
+  std::uint32_t rays = 0;  ///< observation count (see mesher::SurfaceFace::rays)
+  bool steiner = false;    ///< touches a Steiner vertex
+  FaceClass face_class = FaceClass::kUnknown;
+  /// Combined cost in [0, 1] for free faces; 1 for lethal; NaN for unknown.
+  float cost = std::numeric_limits<float>::quiet_NaN();
+};
+
+/// A snapshot of a traversability map: the mesh (map units) with every layer per face. What the
+/// exporters and the planner consume.
+struct LayeredMesh {
+  mesher::TriangleMesh mesh;
+  /// One per face of `mesh`.
+  std::vector<FaceLayers> layers;
+  /// Stable keys of the faces (empty when the mesh came from a file without vertex keys).
+  std::vector<mesher::FaceKey> face_keys;
+  /// Unit vector pointing up (against gravity), in the map frame.
+  Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
+  /// Metres per map unit.
+  double metres_per_unit = 1.0;
+
+  /// Per-vertex cost: the max over the vertex's known faces (NaN if all are unknown; 1 if any is
+  /// lethal).
+  std::vector<float> vertexCost() const;
+  /// Per-vertex class: lethal if any face is lethal, else free if any face is free, else unknown.
+  std::vector<FaceClass> vertexClass() const;
+};
+
+}  // namespace terramesh::traversability

@@ -1,0 +1,93 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace terramesh::traversability {
+
+/// Shape of the robot's footprint on the ground.
+enum class FootprintShape { kDisc, kRectangle };
+
+/// Weights of the normalised layers in the combined cost (each layer is first mapped to [0, 1]
+/// by its limit in the profile, see docs/traversability.md). Any non-negative values; they are
+/// normalised by their sum.
+struct LayerWeights {
+  double slope = 1.0;
+  double step = 1.0;
+  double roughness = 1.0;
+  double contact = 1.0;
+  double inflation = 1.0;
+};
+
+/// What a robot can drive on. Lengths in metres, angles in degrees. Loaded from YAML
+/// (loadRobotProfile) or built in code; validate() before use.
+struct RobotProfile {
+  std::string name = "robot";
+  FootprintShape footprint = FootprintShape::kDisc;
+  /// Disc footprint radius.
+  double footprint_radius_m = 0.3;
+  /// Rectangle footprint, length along the heading and width across it.
+  double footprint_length_m = 0.6;
+  double footprint_width_m = 0.5;
+
+  /// Steepest slope the robot climbs; steeper faces are lethal.
+  double max_slope_deg = 20.0;
+  /// Highest step (height jump within the footprint) it crosses; higher is lethal.
+  double max_step_m = 0.2;
+  /// Largest roughness (RMS deviation from the plane fitted over the footprint); more is lethal.
+  double max_roughness_m = 0.08;
+  /// Robot height: faces with less measured free height above them are lethal.
+  double min_clearance_m = 1.0;
+  /// A footprint sample point is supported if the surface is within this distance of the
+  /// footprint plane there.
+  double contact_tolerance_m = 0.05;
+  /// Smallest supported fraction of the footprint (worst heading) the robot needs; less is lethal.
+  double min_support = 0.7;
+  /// Headings at which contact is evaluated (evenly spaced over 360 degrees).
+  int contact_headings = 8;
+
+  /// Costmap-style inflation (Nav2 inflation layer): within `inscribed_radius_m` of a lethal face
+  /// the cost is the inscribed cost; beyond it decays as exp(-cost_scaling_factor * (d - r_i))
+  /// up to `inflation_radius_m`, where it stops. Distances are geodesic over the surface.
+  double inscribed_radius_m = 0.3;
+  double inflation_radius_m = 1.0;
+  double cost_scaling_factor = 3.0;  ///< 1/m
+
+  LayerWeights weights;
+
+  /// Faces touching a Steiner vertex, or seen by fewer rays, are unknown.
+  int min_rays = 3;
+
+  /// Gravity direction (pointing down) in the map frame; nullopt = estimate from the camera poses.
+  std::optional<Eigen::Vector3d> gravity_W;
+
+  /// Radius of the smallest disc around the footprint's centre that contains it.
+  double footprintCircumradiusM() const;
+
+  /// @throw std::invalid_argument listing every out-of-range field, each as
+  ///        "key: value (expected range)".
+  void validate() const;
+};
+
+/// Reads a robot profile from YAML. Every key is optional except `name`; unknown keys are errors.
+/// Schema (lengths in metres, angles in degrees; ranges as validate() checks them):
+///   name: string
+///   footprint: {radius_m: R} (disc) | {length_m: L, width_m: W} (rectangle, L along the heading)
+///   max_slope_deg (0, 90), max_step_m [0, 10], max_roughness_m (0, 10], min_clearance_m (0, 50],
+///   contact_tolerance_m (0, 10], min_support [0, 1], contact_headings: integer [1, 360],
+///   inscribed_radius_m [0, 100], inflation_radius_m [inscribed_radius_m, 100],
+///   cost_scaling_factor (0, 1000], weights: {slope, step, roughness, contact, inflation} each
+///   [0, 1000] not all 0, min_rays: integer [0, 1e6],
+///   gravity: auto | [x, y, z] (pointing down, map frame; auto = estimateUpFromCameras).
+/// The shipped profiles (traversability/robots/*.yaml) repeat it in their header comment.
+/// @throw terramesh::InputError naming the file, the key (and line), the value and the allowed
+///        range or type.
+RobotProfile loadRobotProfile(const std::filesystem::path& path);
+
+/// Writes `profile` as YAML that loadRobotProfile reads back to an equal profile. Atomic.
+/// @throw std::runtime_error if the file cannot be written.
+void writeRobotProfile(const std::filesystem::path& path, const RobotProfile& profile);
+
+}  // namespace terramesh::traversability

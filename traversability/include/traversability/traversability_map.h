@@ -1,0 +1,90 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "mesher/surface_delta.h"
+#include "mesher/triangle_mesh.h"
+#include "traversability/layered_mesh.h"
+#include "traversability/robot_profile.h"
+
+namespace terramesh::traversability {
+
+/// How the map frame relates to the world: what "up" is and how large a map unit is.
+struct MapFrame {
+  /// Unit vector against gravity, in the map frame.
+  Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
+  double metres_per_unit = 1.0;
+  /// @throw std::invalid_argument if up_W is not finite and non-zero or the scale is not > 0.
+  void validate() const;
+};
+
+/// Estimates "up" from camera orientations: the mean of the cameras' image-up axes (-y of an
+/// OpenCV/KITTI camera, x right, y down, z forward), normalised.
+/// @throw std::invalid_argument if there are no rotations or they cancel out.
+Eigen::Vector3d estimateUpFromCameras(const std::vector<Eigen::Matrix3d>& rotations_W_C);
+
+/// What one TraversabilityMap update did (returned, never logged).
+struct LayerUpdateStats {
+  std::size_t faces_added = 0;
+  std::size_t faces_removed = 0;
+  std::size_t faces_recomputed = 0;  ///< faces whose layers (or only cost/class) were computed again
+  std::size_t faces_reobserved = 0;  ///< faces whose observation count changed without re-adding
+  /// Faces of the delta removed and re-added with identical vertices and positions (mesher churn,
+  /// counted in faces_added and faces_removed too): only their observation count is re-read.
+  std::size_t faces_readded_unchanged = 0;
+  std::size_t faces_total = 0;       ///< faces in the map after the update
+  bool full_rebuild = false;         ///< the delta was incomplete: everything was recomputed
+  double seconds = 0;                ///< wall-clock time of the update
+};
+
+/// Per-face traversability layers of a surface, for one robot, kept current incrementally.
+///
+/// Feed it the mesher's surface deltas (or a whole surface); it recomputes only the faces whose
+/// footprint, clearance column or inflation radius reaches a changed face. Not thread-safe.
+class TraversabilityMap {
+ public:
+  /// @throw std::invalid_argument if the profile or frame does not validate.
+  TraversabilityMap(const RobotProfile& profile, const MapFrame& frame);
+  ~TraversabilityMap();
+  TraversabilityMap(TraversabilityMap&&) noexcept;
+  TraversabilityMap& operator=(TraversabilityMap&&) noexcept;
+
+  /// Applies one delta from mesher::Mesher::changesSince and updates the layers that it affects.
+  /// An incomplete delta must be followed by reset().
+  /// @throw std::invalid_argument if `delta.complete` is false.
+  LayerUpdateStats apply(const mesher::SurfaceDelta& delta);
+
+  /// The same, plus fresh observation counts for the faces around `delta.touched_vertices`
+  /// (mesher::Mesher::facesAround(delta.touched_vertices)): faces whose count changed without
+  /// being re-added are re-judged (known / unknown) with the inflation around them. Faces of
+  /// `faces_around_touched` that are not in the map are ignored. With it, the map after any
+  /// sequence of updates equals reset(mesher.surfaceFaces()) exactly.
+  /// @throw std::invalid_argument if `delta.complete` is false.
+  LayerUpdateStats apply(const mesher::SurfaceDelta& delta,
+                         const std::vector<mesher::SurfaceFace>& faces_around_touched);
+
+  /// Replaces the whole surface and recomputes every layer.
+  LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces);
+
+  /// Layers of a finished mesh (e.g. read from PLY). Faces touching a vertex flagged in
+  /// `mesh.is_steiner` are unmeasured; without the flags every face counts as measured and is
+  /// given `rays_if_unknown` rays.
+  static LayeredMesh computeForMesh(const mesher::TriangleMesh& mesh, const RobotProfile& profile,
+                                    const MapFrame& frame, std::uint32_t rays_if_unknown);
+
+  /// The current map as a mesh with its layers, faces sorted by key. O(F log F).
+  LayeredMesh snapshot() const;
+
+  std::size_t faceCount() const;
+  const RobotProfile& profile() const;
+  const MapFrame& frame() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace terramesh::traversability

@@ -1,0 +1,370 @@
+#include "layer_computer.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace terramesh::traversability::internal {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+/// Footprint samples per circumradius along each axis of the sample grid.
+constexpr int kSamplesPerRadius = 5;
+/// Faces whose normal has a smaller upward component are not ground (walls, ceilings).
+constexpr double kMinGroundNormalZ = 1e-6;
+/// A face above the centroid closer than this is the face's own neighbourhood, not a ceiling.
+constexpr double kMinClearanceGapM = 1e-4;
+/// Steep faces up to this angle (vertical risers, slightly overhanging ones) may be step risers.
+constexpr double kMaxRiserSlopeDeg = 95.0;
+
+/// What a footprint sample found: no ground in its band, ground steeper than max_slope, level.
+constexpr char kNoGround = 0;
+constexpr char kSteepGround = 1;
+constexpr char kLevelGround = 2;
+
+/// Slices of projected triangles are widened by this much: far more than rounding, far less than
+/// the footprint sample spacing.
+constexpr double kSliceToleranceM = 1e-6;
+/// StoredFace::heightAt finds nothing on faces whose projection's doubled area is smaller.
+constexpr double kMinProjectedDet = 1e-12;
+
+/// floor and ceil of a double known to lie well within the int range (std::floor is a library
+/// call without SSE4.1).
+int floorInt(double t) {
+  const int i = static_cast<int>(t);
+  return static_cast<double>(i) > t ? i - 1 : i;
+}
+int ceilInt(double t) {
+  const int i = static_cast<int>(t);
+  return static_cast<double>(i) < t ? i + 1 : i;
+}
+
+/// The edges of a face's horizontal projection, prepared for slicing by vertical lines x = const.
+struct ProjectedEdges {
+  struct Edge {
+    double x_min, x_max;  ///< x range of the edge
+    double x0, y0;        ///< start point
+    double y1;            ///< end point's y
+    double slope;         ///< dy/dx (unused if parallel)
+    bool parallel;        ///< (nearly) parallel to the slicing lines: the slice takes all of it
+  };
+  std::array<Edge, 3> edges;
+
+  explicit ProjectedEdges(const StoredFace& g) {
+    for (int e = 0; e < 3; ++e) {
+      const Eigen::Vector3d& p = g.p_L[e];
+      const Eigen::Vector3d& q = g.p_L[(e + 1) % 3];
+      const double dx = q.x() - p.x();
+      Edge& edge = edges[e];
+      edge.x_min = std::min(p.x(), q.x());
+      edge.x_max = std::max(p.x(), q.x());
+      edge.x0 = p.x();
+      edge.y0 = p.y();
+      edge.y1 = q.y();
+      edge.parallel = std::abs(dx) < kSliceToleranceM;
+      edge.slope = edge.parallel ? 0.0 : (q.y() - p.y()) / dx;
+    }
+  }
+
+  /// The y range [y_lo, y_hi] (a superset, up to rounding) of the projection on the line at x;
+  /// false if the line misses it (farther than kSliceToleranceM).
+  bool slice(double x, double& y_lo, double& y_hi) const {
+    y_lo = std::numeric_limits<double>::infinity();
+    y_hi = -y_lo;
+    for (const Edge& e : edges) {
+      if (x < e.x_min - kSliceToleranceM || x > e.x_max + kSliceToleranceM) continue;
+      if (e.parallel) {
+        y_lo = std::min({y_lo, e.y0, e.y1});
+        y_hi = std::max({y_hi, e.y0, e.y1});
+        continue;
+      }
+      const double y = e.y0 + (std::clamp(x, e.x_min, e.x_max) - e.x0) * e.slope;
+      y_lo = std::min(y_lo, y);
+      y_hi = std::max(y_hi, y);
+    }
+    return y_lo <= y_hi;
+  }
+};
+
+double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
+
+}  // namespace
+
+LayerComputer::LayerComputer(const RobotProfile& profile)
+    : profile_(profile),
+      radius_m_(profile.footprintCircumradiusM()),
+      band_down_m_(std::max(profile.min_clearance_m, 2.0 * profile.max_step_m)),
+      clearance_search_m_(std::max(3.0 * profile.min_clearance_m, 5.0)),
+      cos_max_slope_(std::cos(profile.max_slope_deg * M_PI / 180.0)) {
+  const double spacing = radius_m_ / kSamplesPerRadius;
+  for (int i = -kSamplesPerRadius; i <= kSamplesPerRadius; ++i) {
+    for (int j = -kSamplesPerRadius; j <= kSamplesPerRadius; ++j) {
+      const bool inside = i * i + j * j <= kSamplesPerRadius * kSamplesPerRadius;
+      offset_index_.push_back(inside ? static_cast<int>(offsets_.size()) : -1);
+      if (inside) offsets_.emplace_back(i * spacing, j * spacing);
+    }
+  }
+  const double eps = 1e-9 * radius_m_;
+  if (profile.footprint == FootprintShape::kDisc) {
+    std::vector<int> all(offsets_.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    heading_samples_.push_back(all);
+    return;
+  }
+  for (int k = 0; k < profile.contact_headings; ++k) {
+    const double theta = 2.0 * M_PI * k / profile.contact_headings;
+    const double c = std::cos(theta), s = std::sin(theta);
+    std::vector<int> inside;
+    for (std::size_t i = 0; i < offsets_.size(); ++i) {
+      const Eigen::Vector2d& o = offsets_[i];
+      const double along = c * o.x() + s * o.y();
+      const double across = -s * o.x() + c * o.y();
+      if (std::abs(along) <= 0.5 * profile.footprint_length_m + eps &&
+          std::abs(across) <= 0.5 * profile.footprint_width_m + eps) {
+        inside.push_back(static_cast<int>(i));
+      }
+    }
+    heading_samples_.push_back(inside);
+  }
+}
+
+void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c) const {
+  constexpr int K = kSamplesPerRadius;
+  z_.assign(offsets_.size(), std::numeric_limits<double>::quiet_NaN());
+  level_.assign(offsets_.size(), kNoGround);
+  const double spacing = radius_m_ / K;
+  // Grid indices that may fall in [lo, hi] (one node of margin for rounding; NaN: all).
+  const auto first = [&](double lo, double centre) {
+    const double t = (lo - centre) / spacing;
+    if (!(t > -K)) return -K;
+    return t > K ? K + 1 : std::max(-K, floorInt(t) - 1);
+  };
+  const auto last = [&](double hi, double centre) {
+    const double t = (hi - centre) / spacing;
+    if (!(t < K)) return K;
+    return t < -K ? -K - 1 : std::min(K, floorInt(t) + 1);
+  };
+  // Grid indices of the nodes at or above lo, at or below hi (NaN: all).
+  const auto ceilIndex = [&](double lo, double centre) {
+    const double t = (lo - centre) / spacing;
+    if (!(t > -K)) return -K;
+    return t > K ? K + 1 : ceilInt(t);
+  };
+  const auto floorIndex = [&](double hi, double centre) {
+    const double t = (hi - centre) / spacing;
+    if (!(t < K)) return K;
+    return t < -K ? -K - 1 : floorInt(t);
+  };
+  // Candidate by candidate (in the order of candidates_), each over the samples in its box: per
+  // sample, the same candidates in the same order as a sample-by-sample search, so the same result.
+  for (Slot t : candidates_) {
+    const StoredFace& g = store.face(t);
+    if (std::abs(g.projected_det) < kMinProjectedDet) continue;  // heightAt finds nothing on it
+    const char level = g.normal_L.z() >= cos_max_slope_ ? kLevelGround : kSteepGround;
+    const int i0 = first(g.box_min.x(), c.x()), i1 = last(g.box_max.x(), c.x());
+    const int j0 = first(g.box_min.y(), c.y()), j1 = last(g.box_max.y(), c.y());
+    const ProjectedEdges edges(g);
+    for (int i = i0; i <= i1; ++i) {
+      // Only the samples of this column near the triangle's slice [y_lo, y_hi] at its x.
+      double y_lo = 0, y_hi = 0;
+      if (!edges.slice(c.x() + i * spacing, y_lo, y_hi)) continue;
+      const int j_lo = std::max(j0, ceilIndex(y_lo - kSliceToleranceM, c.y()));
+      const int j_hi = std::min(j1, floorIndex(y_hi + kSliceToleranceM, c.y()));
+      for (int j = j_lo; j <= j_hi; ++j) {
+        const int k = offset_index_[static_cast<std::size_t>((i + K) * (2 * K + 1) + j + K)];
+        if (k < 0) continue;
+        const Eigen::Vector2d& o = offsets_[static_cast<std::size_t>(k)];
+        const double x = c.x() + o.x(), y = c.y() + o.y();
+        if (g.box_min.x() > x || g.box_max.x() < x || g.box_min.y() > y || g.box_max.y() < y) continue;
+        const std::optional<double> z = g.heightAt(x, y);
+        const double ref_z = ref_[static_cast<std::size_t>(k)];
+        if (!z || *z < ref_z - band_down_m_ || *z > ref_z + profile_.min_clearance_m) continue;
+        double& best = z_[static_cast<std::size_t>(k)];
+        char& best_level = level_[static_cast<std::size_t>(k)];
+        const double d = std::abs(*z - ref_z), best_d = best_level != kNoGround ? std::abs(best - ref_z) : 0.0;
+        if (best_level == kNoGround || d < best_d || (d == best_d && *z < best)) {
+          best = *z;
+          best_level = level;
+        }
+      }
+    }
+  }
+}
+
+void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
+  StoredFace& f = store.face(s);
+  FaceLayers& layers = f.layers;
+  const Eigen::Vector3d& n = f.normal_L;
+  const Eigen::Vector3d& c = f.centroid_L;
+  layers.slope_deg = n.squaredNorm() > 0 ? static_cast<float>(std::acos(std::clamp(n.z(), -1.0, 1.0)) * kRadToDeg)
+                                         : 90.0f;
+  const bool steep = !(layers.slope_deg <= profile_.max_slope_deg) || n.z() <= kMinGroundNormalZ;
+  // Reference plane z = c.z + a x + b y (x, y relative to the centroid).
+  const double ref_a = steep ? 0.0 : -n.x() / n.z();
+  const double ref_b = steep ? 0.0 : -n.y() / n.z();
+
+  const std::size_t count = offsets_.size();
+  // Ground candidates: upward-facing faces whose projection's box meets the footprint's box.
+  const Eigen::Vector2d lo = c.head<2>() - Eigen::Vector2d(radius_m_, radius_m_);
+  const Eigen::Vector2d hi = c.head<2>() + Eigen::Vector2d(radius_m_, radius_m_);
+  std::vector<Slot>& candidates = candidates_;
+  candidates.clear();
+  store.forEachInBox(lo, hi, [&](Slot t) {
+    const FaceBounds& g = store.bounds(t);
+    if (!g.alive || g.normal_z <= kMinGroundNormalZ) return;
+    if ((g.box_min.array() > hi.array()).any() || (g.box_max.array() < lo.array()).any()) return;
+    candidates.push_back(t);
+  });
+  ref_.resize(count);
+  for (std::size_t i = 0; i < count; ++i) ref_[i] = c.z() + ref_a * offsets_[i].x() + ref_b * offsets_[i].y();
+  sampleGround(store, c);
+  const std::vector<double>& z = z_;
+  const std::vector<double>& ref = ref_;
+  int found_samples = 0, level_samples = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (level_[i] == kNoGround) continue;
+    ++found_samples;
+    level_samples += level_[i] == kLevelGround ? 1 : 0;
+  }
+  f.level_fraction = found_samples ? static_cast<float>(level_samples) / static_cast<float>(found_samples) : 0.0f;
+  // Least-squares plane z - c.z = a x + b y + d over the centroid and the found samples that
+  // `use` accepts; nullopt if they do not span a plane.
+  const auto fit = [&](auto&& use) -> std::optional<Eigen::Vector3d> {
+    Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    normal_matrix(2, 2) = 1.0;  // the centroid itself: (0, 0, 0)
+    int used = 1;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (std::isnan(z[i]) || !use(i)) continue;
+      const Eigen::Vector3d row(offsets_[i].x(), offsets_[i].y(), 1.0);
+      normal_matrix += row * row.transpose();
+      rhs += row * (z[i] - c.z());
+      ++used;
+    }
+    if (used < 3) return std::nullopt;
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(normal_matrix);
+    if (lu.rank() < 3) return std::nullopt;
+    return Eigen::Vector3d(lu.solve(rhs));
+  };
+  // Residual statistics of the centroid and every found sample against a plane.
+  struct Residuals {
+    double min, max, sum_sq;
+    int n;
+  };
+  const auto residuals = [&](const Eigen::Vector3d& plane) {
+    Residuals r{-plane.z(), -plane.z(), plane.z() * plane.z(), 1};
+    for (std::size_t i = 0; i < count; ++i) {
+      if (std::isnan(z[i])) continue;
+      const Eigen::Vector2d& o = offsets_[i];
+      const double e = z[i] - c.z() - (plane.x() * o.x() + plane.y() * o.y() + plane.z());
+      r.min = std::min(r.min, e);
+      r.max = std::max(r.max, e);
+      r.sum_sq += e * e;
+      ++r.n;
+    }
+    return r;
+  };
+  const Eigen::Vector3d all_plane = fit([](std::size_t) { return true; }).value_or(Eigen::Vector3d(ref_a, ref_b, 0.0));
+  const Residuals all = residuals(all_plane);
+  layers.roughness_m = static_cast<float>(std::sqrt(all.sum_sq / all.n));
+  // The step is measured from the plane of the face's own level (the samples near the face's
+  // plane): a fit over both levels of a step would tilt towards the upper one and hide part of
+  // the jump; degenerate levels use the plane over all samples. Steep faces (the risers of
+  // steps) measure the height range around them.
+  const double level_band = std::max(profile_.contact_tolerance_m, 0.5 * profile_.max_step_m);
+  const std::optional<Eigen::Vector3d> level_plane =
+      steep ? std::nullopt : fit([&](std::size_t i) { return std::abs(z[i] - ref[i]) <= level_band; });
+  const Residuals level = residuals(steep ? Eigen::Vector3d::Zero() : level_plane.value_or(all_plane));
+  layers.step_m = static_cast<float>(level.max - level.min);
+
+  const double reach = profile_.max_step_m + profile_.contact_tolerance_m;
+  double worst = 1.0, best = 0.0;
+  for (const std::vector<int>& samples : heading_samples_) {
+    int supported = 0;
+    for (int i : samples) {
+      if (!std::isnan(z[i]) && std::abs(z[i] - ref[i]) <= reach) ++supported;
+    }
+    const double fraction = samples.empty() ? 0.0 : static_cast<double>(supported) / samples.size();
+    worst = std::min(worst, fraction);
+    best = std::max(best, fraction);
+  }
+  layers.contact = static_cast<float>(worst);
+  layers.contact_best = static_cast<float>(best);
+
+  double above = std::numeric_limits<double>::infinity();
+  bool above_steiner = false;
+  store.forEachAt(c.x(), c.y(), [&](Slot t) {
+    if (t == s) return;
+    // Faces whose box (widened far beyond heightAt's rounding tolerance) misses the centroid
+    // cannot be above it.
+    const FaceBounds& b = store.bounds(t);
+    if (!b.alive || c.x() < b.box_min.x() - kSliceToleranceM || c.x() > b.box_max.x() + kSliceToleranceM ||
+        c.y() < b.box_min.y() - kSliceToleranceM || c.y() > b.box_max.y() + kSliceToleranceM) {
+      return;
+    }
+    const StoredFace& g = store.face(t);
+    const std::optional<double> h = g.heightAt(c.x(), c.y());
+    if (!h || *h < c.z() + kMinClearanceGapM || *h - c.z() > clearance_search_m_) return;
+    if (*h < above || (*h == above && g.steiner)) {
+      above = *h;
+      above_steiner = g.steiner;
+    }
+  });
+  if (std::isinf(above)) {
+    layers.clearance_m = std::numeric_limits<float>::infinity();
+  } else {
+    layers.clearance_m = above_steiner ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(above - c.z());
+  }
+  layers.rays = f.rays;
+  layers.steiner = f.steiner;
+}
+
+bool LayerComputer::lethal(const StoredFace& face) const {
+  const FaceLayers& l = face.layers;
+  // A steep face no taller than max_step_m between level ground (at least half of its footprint
+  // samples on faces no steeper than max_slope: not a steep ramp) is the riser of a step: the
+  // step layer judges it, not the slope.
+  const bool riser = l.slope_deg <= kMaxRiserSlopeDeg && face.max_z - face.min_z <= profile_.max_step_m &&
+                     face.level_fraction >= 0.5f;
+  const bool too_steep = !(l.slope_deg <= profile_.max_slope_deg) && !riser;
+  return too_steep || l.step_m > profile_.max_step_m || l.roughness_m > profile_.max_roughness_m ||
+         l.contact < profile_.min_support || l.clearance_m < profile_.min_clearance_m;
+}
+
+double LayerComputer::inflationTerm(double distance_m) const {
+  if (!(distance_m <= profile_.inflation_radius_m)) return 0.0;
+  if (distance_m <= profile_.inscribed_radius_m) return 1.0;
+  return std::exp(-profile_.cost_scaling_factor * (distance_m - profile_.inscribed_radius_m));
+}
+
+void LayerComputer::classify(StoredFace& face) const {
+  FaceLayers& l = face.layers;
+  if (face.steiner || l.rays < static_cast<std::uint32_t>(profile_.min_rays)) {
+    l.face_class = FaceClass::kUnknown;
+    l.cost = std::numeric_limits<float>::quiet_NaN();
+    return;
+  }
+  if (lethal(face)) {
+    l.face_class = FaceClass::kLethal;
+    l.cost = 1.0f;
+    return;
+  }
+  const RobotProfile& p = profile_;
+  const double slope = clamp01(l.slope_deg / p.max_slope_deg);
+  const double step = p.max_step_m > 0 ? clamp01(l.step_m / p.max_step_m) : (l.step_m > 0 ? 1.0 : 0.0);
+  const double rough = clamp01(l.roughness_m / p.max_roughness_m);
+  const double contact =
+      p.min_support < 1 ? clamp01((1.0 - l.contact) / (1.0 - p.min_support)) : (l.contact < 1 ? 1.0 : 0.0);
+  const double inflation = inflationTerm(l.lethal_distance_m);
+  const LayerWeights& w = p.weights;
+  const double mean = (w.slope * slope + w.step * step + w.roughness * rough + w.contact * contact +
+                       w.inflation * inflation) /
+                      (w.slope + w.step + w.roughness + w.contact + w.inflation);
+  // Nav2 combines layers by max: the inflation decay is never diluted by flat terrain.
+  l.face_class = FaceClass::kFree;
+  l.cost = static_cast<float>(std::max(mean, inflation));
+}
+
+}  // namespace terramesh::traversability::internal

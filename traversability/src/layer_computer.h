@@ -1,0 +1,71 @@
+#pragma once
+// The per-face layers that depend on the geometry around one face (slope, step, roughness,
+// contact, clearance, observedness), the lethal test and the combined cost. Internal.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "surface_store.h"
+#include "traversability/robot_profile.h"
+
+namespace terramesh::traversability::internal {
+
+/// Computes the local layers of faces of a SurfaceStore for one robot. Not thread-safe.
+///
+/// Footprint model (docs/traversability.md): samples on a square grid (spacing R/5, R the
+/// footprint circumradius) within the disc of radius R around the face centroid, in the
+/// horizontal plane. At each sample a vertical ray finds the upward-facing surface closest to the
+/// face's plane (a horizontal plane through the centroid for faces steeper than max_slope), within
+/// [plane - max(min_clearance, 2 max_step), plane + min_clearance]: higher geometry is overhead,
+/// lower is a drop.
+/// - step: max - min of the residuals of the centroid and the found samples from the
+///   least-squares plane of the face's level (the samples near the face's plane; a jump that
+///   plane cannot explain, independent of the slope); for steep faces, max - min of the heights;
+/// - roughness: RMS of those residuals;
+/// - contact: per heading, the fraction of the samples inside the (rotated) footprint whose
+///   surface lies within max_step_m + contact_tolerance_m of the face's plane (a wheel or foot
+///   can reach it: a curb the robot may climb still supports it, a ledge or hole does not).
+/// - clearance: vertical ray up from the centroid to the first face whose projection contains it.
+class LayerComputer {
+ public:
+  explicit LayerComputer(const RobotProfile& profile);
+
+  /// Horizontal reach of a face's local layers: a change farther than this (in the horizontal
+  /// plane, from the face's centroid) cannot change them.
+  double reachM() const { return radius_m_; }
+
+  /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`.
+  void computeLocal(SurfaceStore& store, Slot s) const;
+
+  /// Whether known face layers make a face lethal (see docs for the step-riser rule).
+  bool lethal(const StoredFace& face) const;
+  /// Sets face_class and cost from the local layers and `lethal_distance_m`.
+  void classify(StoredFace& face) const;
+  /// Inflation term in [0, 1] of a geodesic distance to the nearest lethal face (Nav2 decay).
+  double inflationTerm(double distance_m) const;
+
+ private:
+  /// Finds, for every footprint sample of the face with centroid c, the ground closest to the
+  /// sample's reference height (z_ and level_ scratch; NaN where none).
+  void sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c) const;
+
+  RobotProfile profile_;
+  double radius_m_;
+  std::vector<Eigen::Vector2d> offsets_;
+  /// Index in offsets_ of grid node (i, j), i and j in [-K, K], at (i + K) * (2K + 1) + j + K; -1
+  /// outside the disc.
+  std::vector<int> offset_index_;
+  /// Per heading, the indices of offsets_ inside the footprint.
+  std::vector<std::vector<int>> heading_samples_;
+  double band_down_m_;
+  double clearance_search_m_;
+  double cos_max_slope_;
+  /// Scratch (computeLocal is not thread-safe): ground candidates; per sample the reference
+  /// height, the best ground height (NaN: none) and whether that ground is level.
+  mutable std::vector<Slot> candidates_;
+  mutable std::vector<double> ref_;
+  mutable std::vector<double> z_;
+  mutable std::vector<char> level_;
+};
+
+}  // namespace terramesh::traversability::internal

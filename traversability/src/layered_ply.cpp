@@ -1,0 +1,141 @@
+// traversability.ply: the layered mesh as a standard PLY (MeshLab / CloudCompare read it).
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "common/input_error.h"
+#include "common/ply.h"
+#include "export_writers.h"
+
+namespace terramesh::traversability::internal {
+namespace {
+
+using ply::Type;
+
+/// The per-face float layers, in file order.
+struct FloatLayer {
+  const char* name;
+  float FaceLayers::*member;
+};
+
+constexpr FloatLayer kFloatLayers[] = {
+    {"slope_deg", &FaceLayers::slope_deg},     {"step_m", &FaceLayers::step_m},
+    {"roughness_m", &FaceLayers::roughness_m}, {"contact", &FaceLayers::contact},
+    {"contact_best", &FaceLayers::contact_best}, {"clearance_m", &FaceLayers::clearance_m},
+    {"lethal_distance_m", &FaceLayers::lethal_distance_m},
+};
+
+const ply::Property& require(const ply::Element& element, const std::string& name, const std::string& file) {
+  const ply::Property* property = element.find(name);
+  if (!property) throw InputError(file, "element " + element.name, "missing property \"" + name + "\"");
+  if (property->isList()) throw InputError(file, "element " + element.name, "property \"" + name + "\" must be a scalar");
+  return *property;
+}
+
+}  // namespace
+
+void writeLayeredPly(const std::filesystem::path& path, const LayeredMesh& map) {
+  const mesher::TriangleMesh& mesh = map.mesh;
+  ply::Document document;
+  document.comments.push_back("terramesh traversability map: per-face layers (docs/traversability.md)");
+  document.comments.push_back("cost in [0,1], NaN = unknown; lengths in metres; infinite clearance = nothing above");
+  // Each property is filled right after it is added (adding may move the earlier ones).
+  const auto scalar = [](ply::Element& element, const char* name, Type type, std::size_t count, auto value) {
+    ply::Property& property = element.addScalar(name, type);
+    property.values.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) property.values.push_back(static_cast<double>(value(i)));
+  };
+  const std::size_t vertex_count = mesh.vertices.size(), face_count = mesh.faces.size();
+  ply::Element& vertices = document.addElement("vertex", vertex_count);
+  for (int k = 0; k < 3; ++k) {
+    const char* names[] = {"x", "y", "z"};
+    scalar(vertices, names[k], Type::kFloat64, vertex_count, [&](std::size_t v) { return mesh.vertices[v][k]; });
+  }
+  const bool have_flags = mesh.is_steiner.size() == vertex_count;
+  scalar(vertices, "steiner", Type::kUInt8, vertex_count, [&](std::size_t v) { return have_flags && mesh.is_steiner[v]; });
+  const std::vector<float> vertex_cost = map.vertexCost();
+  scalar(vertices, "cost", Type::kFloat32, vertex_count, [&](std::size_t v) { return vertex_cost[v]; });
+
+  ply::Element& faces = document.addElement("face", face_count);
+  ply::Property& indices = faces.addList("vertex_indices", Type::kUInt8, Type::kUInt32);
+  indices.list_offsets.push_back(0);
+  for (const auto& face : mesh.faces) {
+    for (std::uint32_t v : face) indices.values.push_back(v);
+    indices.list_offsets.push_back(indices.values.size());
+  }
+  const auto& layers = map.layers;
+  scalar(faces, "cost", Type::kFloat32, face_count, [&](std::size_t f) {
+    return layers[f].face_class == FaceClass::kUnknown ? std::numeric_limits<float>::quiet_NaN() : layers[f].cost;
+  });
+  scalar(faces, "lethal", Type::kUInt8, face_count, [&](std::size_t f) { return layers[f].face_class == FaceClass::kLethal; });
+  scalar(faces, "unknown", Type::kUInt8, face_count,
+         [&](std::size_t f) { return layers[f].face_class == FaceClass::kUnknown; });
+  for (const FloatLayer& layer : kFloatLayers) {
+    scalar(faces, layer.name, Type::kFloat32, face_count, [&](std::size_t f) { return layers[f].*layer.member; });
+  }
+  scalar(faces, "rays", Type::kUInt32, face_count, [&](std::size_t f) { return layers[f].rays; });
+  scalar(faces, "steiner", Type::kUInt8, face_count, [&](std::size_t f) { return layers[f].steiner; });
+  ply::writeFile(path, document, ply::Format::kBinaryLittleEndian);
+}
+
+LayeredMesh readLayeredPly(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const ply::Document document = ply::read(path);
+  const ply::Element* vertices = document.find("vertex");
+  const ply::Element* faces = document.find("face");
+  if (!vertices) throw InputError(file, "header", "missing element \"vertex\"");
+  if (!faces) throw InputError(file, "header", "missing element \"face\"");
+  LayeredMesh map;
+  mesher::TriangleMesh& mesh = map.mesh;
+  const ply::Property& x = require(*vertices, "x", file);
+  const ply::Property& y = require(*vertices, "y", file);
+  const ply::Property& z = require(*vertices, "z", file);
+  mesh.vertices.resize(vertices->count);
+  for (std::size_t v = 0; v < vertices->count; ++v) mesh.vertices[v] = {x.values[v], y.values[v], z.values[v]};
+  if (const ply::Property* flags = vertices->find("steiner"); flags && !flags->isList()) {
+    mesh.is_steiner.resize(vertices->count);
+    for (std::size_t v = 0; v < vertices->count; ++v) mesh.is_steiner[v] = flags->values[v] != 0;
+  }
+
+  const ply::Property* indices = faces->find("vertex_indices");
+  if (!indices) indices = faces->find("vertex_index");
+  if (!indices || !indices->isList()) throw InputError(file, "element face", "missing list property \"vertex_indices\"");
+  const ply::Property& cost = require(*faces, "cost", file);
+  const ply::Property& lethal = require(*faces, "lethal", file);
+  const ply::Property& unknown = require(*faces, "unknown", file);
+  const ply::Property& rays = require(*faces, "rays", file);
+  const ply::Property& steiner = require(*faces, "steiner", file);
+  std::vector<const ply::Property*> float_layers;
+  for (const FloatLayer& layer : kFloatLayers) float_layers.push_back(&require(*faces, layer.name, file));
+  mesh.faces.resize(faces->count);
+  map.layers.resize(faces->count);
+  for (std::size_t f = 0; f < faces->count; ++f) {
+    const std::string where = "face " + std::to_string(f);
+    if (indices->listSize(f) != 3) throw InputError(file, where, "expected a triangle (3 vertex indices)");
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double index = indices->values[indices->list_offsets[f] + k];
+      if (!(index >= 0) || index >= static_cast<double>(vertices->count)) {
+        throw InputError(file, where, "vertex index " + std::to_string(index) + " out of range (" +
+                                          std::to_string(vertices->count) + " vertices)");
+      }
+      mesh.faces[f][k] = static_cast<std::uint32_t>(index);
+    }
+    FaceLayers& layers = map.layers[f];
+    if (lethal.values[f] != 0 && unknown.values[f] != 0) throw InputError(file, where, "both lethal and unknown");
+    layers.face_class = lethal.values[f] != 0   ? FaceClass::kLethal
+                        : unknown.values[f] != 0 ? FaceClass::kUnknown
+                                                 : FaceClass::kFree;
+    layers.cost = static_cast<float>(cost.values[f]);
+    if (layers.face_class != FaceClass::kUnknown && !(layers.cost >= 0 && layers.cost <= 1)) {
+      throw InputError(file, where, "cost must be in [0, 1] for a known face");
+    }
+    for (std::size_t l = 0; l < float_layers.size(); ++l) {
+      layers.*kFloatLayers[l].member = static_cast<float>(float_layers[l]->values[f]);
+    }
+    layers.rays = static_cast<std::uint32_t>(rays.values[f]);
+    layers.steiner = steiner.values[f] != 0;
+  }
+  return map;
+}
+
+}  // namespace terramesh::traversability::internal

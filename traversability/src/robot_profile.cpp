@@ -1,0 +1,313 @@
+#include "traversability/robot_profile.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <functional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "common/atomic_file.h"
+#include "common/input_error.h"
+
+namespace terramesh::traversability {
+namespace {
+
+/// Allowed range of one numeric field: [lo, hi], either end open if flagged.
+struct Range {
+  double lo;
+  double hi;
+  bool lo_open;
+  bool hi_open;
+
+  bool contains(double value) const {
+    if (!std::isfinite(value)) return false;
+    if (lo_open ? value <= lo : value < lo) return false;
+    return hi_open ? value < hi : value <= hi;
+  }
+  std::string text() const {
+    std::ostringstream out;
+    out << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
+    return out.str();
+  }
+};
+
+/// One numeric key of the YAML schema, the field it fills and its range.
+struct NumericKey {
+  const char* key;  ///< dotted path, e.g. "footprint.radius_m"
+  Range range;
+  bool integer;
+  std::function<double&(RobotProfile&)> field;
+};
+
+const std::vector<NumericKey>& numericKeys() {
+  static const std::vector<NumericKey> keys = {
+      {"footprint.radius_m", {0, 50, true, false}, false, [](RobotProfile& p) -> double& { return p.footprint_radius_m; }},
+      {"footprint.length_m", {0, 50, true, false}, false, [](RobotProfile& p) -> double& { return p.footprint_length_m; }},
+      {"footprint.width_m", {0, 50, true, false}, false, [](RobotProfile& p) -> double& { return p.footprint_width_m; }},
+      {"max_slope_deg", {0, 90, true, true}, false, [](RobotProfile& p) -> double& { return p.max_slope_deg; }},
+      {"max_step_m", {0, 10, false, false}, false, [](RobotProfile& p) -> double& { return p.max_step_m; }},
+      {"max_roughness_m", {0, 10, true, false}, false, [](RobotProfile& p) -> double& { return p.max_roughness_m; }},
+      {"min_clearance_m", {0, 50, true, false}, false, [](RobotProfile& p) -> double& { return p.min_clearance_m; }},
+      {"contact_tolerance_m", {0, 10, true, false}, false, [](RobotProfile& p) -> double& { return p.contact_tolerance_m; }},
+      {"min_support", {0, 1, false, false}, false, [](RobotProfile& p) -> double& { return p.min_support; }},
+      {"inscribed_radius_m", {0, 100, false, false}, false, [](RobotProfile& p) -> double& { return p.inscribed_radius_m; }},
+      {"inflation_radius_m", {0, 100, false, false}, false, [](RobotProfile& p) -> double& { return p.inflation_radius_m; }},
+      {"cost_scaling_factor", {0, 1000, true, false}, false, [](RobotProfile& p) -> double& { return p.cost_scaling_factor; }},
+      {"weights.slope", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.slope; }},
+      {"weights.step", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.step; }},
+      {"weights.roughness", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.roughness; }},
+      {"weights.contact", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.contact; }},
+      {"weights.inflation", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.inflation; }},
+  };
+  return keys;
+}
+
+const Range kHeadingsRange{1, 360, false, false};
+const Range kMinRaysRange{0, 1e6, false, false};
+
+std::string formatNumber(double value) {
+  std::ostringstream out;
+  out.precision(10);
+  out << value;
+  return out.str();
+}
+
+/// Every problem of a profile, each "key: value (expected ...)".
+std::vector<std::string> problemsOf(const RobotProfile& profile) {
+  std::vector<std::string> problems;
+  RobotProfile copy = profile;
+  if (copy.name.empty()) problems.push_back("name: \"\" (expected a non-empty string)");
+  for (const NumericKey& key : numericKeys()) {
+    const std::string k = key.key;
+    const bool disc_key = k == "footprint.radius_m";
+    const bool rect_key = k == "footprint.length_m" || k == "footprint.width_m";
+    if ((disc_key && copy.footprint != FootprintShape::kDisc) ||
+        (rect_key && copy.footprint != FootprintShape::kRectangle)) {
+      continue;
+    }
+    const double value = key.field(copy);
+    if (!key.range.contains(value)) {
+      problems.push_back(k + ": " + formatNumber(value) + " (expected " + key.range.text() + ")");
+    }
+  }
+  if (!kHeadingsRange.contains(copy.contact_headings)) {
+    problems.push_back("contact_headings: " + std::to_string(copy.contact_headings) + " (expected an integer in " +
+                       kHeadingsRange.text() + ")");
+  }
+  if (!kMinRaysRange.contains(copy.min_rays)) {
+    problems.push_back("min_rays: " + std::to_string(copy.min_rays) + " (expected an integer in " +
+                       kMinRaysRange.text() + ")");
+  }
+  if (copy.inflation_radius_m < copy.inscribed_radius_m) {
+    problems.push_back("inflation_radius_m: " + formatNumber(copy.inflation_radius_m) +
+                       " (expected >= inscribed_radius_m = " + formatNumber(copy.inscribed_radius_m) + ")");
+  }
+  const LayerWeights& w = copy.weights;
+  if (!(w.slope + w.step + w.roughness + w.contact + w.inflation > 0)) {
+    problems.push_back("weights: all zero (expected at least one weight > 0)");
+  }
+  if (copy.gravity_W && (!copy.gravity_W->allFinite() || copy.gravity_W->norm() < 1e-12)) {
+    problems.push_back("gravity: not a finite non-zero vector (expected auto or [x, y, z])");
+  }
+  return problems;
+}
+
+/// Reads a YAML profile, throwing InputError at the first problem.
+class ProfileReader {
+ public:
+  explicit ProfileReader(const std::filesystem::path& path) : file_(path.string()) {}
+
+  RobotProfile read() {
+    YAML::Node root;
+    try {
+      root = YAML::LoadFile(file_);
+    } catch (const YAML::BadFile&) {
+      throw InputError(file_, "file", "cannot be opened");
+    } catch (const YAML::ParserException& e) {
+      throw InputError(file_, lineLocation(static_cast<std::size_t>(e.mark.line) + 1), "not valid YAML: " + e.msg);
+    }
+    if (!root.IsMap()) throw InputError(file_, "top level", "expected a mapping of profile keys");
+    RobotProfile profile;
+    bool has_name = false;
+    for (const auto& entry : root) {
+      const std::string key = entry.first.as<std::string>();
+      const YAML::Node& value = entry.second;
+      if (key == "name") {
+        if (!value.IsScalar() || value.Scalar().empty()) fail(value, key, describe(value), "a non-empty string");
+        profile.name = value.Scalar();
+        has_name = true;
+      } else if (key == "footprint") {
+        readFootprint(value, profile);
+      } else if (key == "weights") {
+        readSection(value, key, {"slope", "step", "roughness", "contact", "inflation"}, profile);
+      } else if (key == "contact_headings") {
+        profile.contact_headings = readInteger(value, key, kHeadingsRange);
+      } else if (key == "min_rays") {
+        profile.min_rays = readInteger(value, key, kMinRaysRange);
+      } else if (key == "gravity") {
+        profile.gravity_W = readGravity(value);
+      } else if (const NumericKey* numeric = find(key)) {
+        numeric->field(profile) = readNumber(value, key, numeric->range);
+      } else {
+        fail(entry.first, key, "an unknown key",
+             "one of name, footprint, max_slope_deg, max_step_m, max_roughness_m, min_clearance_m, "
+             "contact_tolerance_m, min_support, contact_headings, inscribed_radius_m, inflation_radius_m, "
+             "cost_scaling_factor, weights, min_rays, gravity");
+      }
+    }
+    if (!has_name) throw InputError(file_, "name", "missing: every profile needs a name");
+    const std::vector<std::string> problems = problemsOf(profile);
+    if (!problems.empty()) throw InputError(file_, "profile", problems.front());
+    return profile;
+  }
+
+ private:
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& value,
+                         const std::string& expected) const {
+    const YAML::Mark mark = node.Mark();
+    const std::string where =
+        (mark.line >= 0 ? lineLocation(static_cast<std::size_t>(mark.line) + 1) + ", " : std::string()) + "key " + key;
+    throw InputError(file_, where, value + ": expected " + expected);
+  }
+
+  static std::string describe(const YAML::Node& node) {
+    if (node.IsScalar()) return "value \"" + node.Scalar() + "\"";
+    if (node.IsSequence()) return "a sequence";
+    if (node.IsMap()) return "a mapping";
+    return "no value";
+  }
+
+  static const NumericKey* find(const std::string& key) {
+    for (const NumericKey& k : numericKeys()) {
+      if (key == k.key) return &k;
+    }
+    return nullptr;
+  }
+
+  double readNumber(const YAML::Node& node, const std::string& key, const Range& range) const {
+    double value = 0;
+    bool ok = node.IsScalar();
+    if (ok) {
+      try {
+        value = node.as<double>();
+      } catch (const YAML::Exception&) {
+        ok = false;
+      }
+    }
+    if (!ok || !range.contains(value)) fail(node, key, describe(node), "a number in " + range.text());
+    return value;
+  }
+
+  int readInteger(const YAML::Node& node, const std::string& key, const Range& range) const {
+    const double value = readNumber(node, key, range);
+    if (value != std::floor(value)) fail(node, key, describe(node), "an integer in " + range.text());
+    return static_cast<int>(value);
+  }
+
+  void readSection(const YAML::Node& node, const std::string& section, const std::set<std::string>& allowed,
+                   RobotProfile& profile) const {
+    if (!node.IsMap()) fail(node, section, describe(node), "a mapping");
+    for (const auto& entry : node) {
+      const std::string key = section + "." + entry.first.as<std::string>();
+      const NumericKey* numeric = find(key);
+      if (!allowed.count(entry.first.as<std::string>()) || !numeric) {
+        std::string list;
+        for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(entry.first, key, "an unknown key", "one of " + list);
+      }
+      numeric->field(profile) = readNumber(entry.second, key, numeric->range);
+    }
+  }
+
+  void readFootprint(const YAML::Node& node, RobotProfile& profile) const {
+    if (!node.IsMap()) fail(node, "footprint", describe(node), "{radius_m: R} or {length_m: L, width_m: W}");
+    readSection(node, "footprint", {"radius_m", "length_m", "width_m"}, profile);
+    const bool disc = static_cast<bool>(node["radius_m"]);
+    const bool length = static_cast<bool>(node["length_m"]);
+    const bool width = static_cast<bool>(node["width_m"]);
+    if (disc && !length && !width) {
+      profile.footprint = FootprintShape::kDisc;
+    } else if (!disc && length && width) {
+      profile.footprint = FootprintShape::kRectangle;
+    } else {
+      fail(node, "footprint", "a mapping with keys that do not describe one shape",
+           "either radius_m alone (disc) or both length_m and width_m (rectangle)");
+    }
+  }
+
+  std::optional<Eigen::Vector3d> readGravity(const YAML::Node& node) const {
+    if (node.IsScalar() && node.Scalar() == "auto") return std::nullopt;
+    if (node.IsSequence() && node.size() == 3) {
+      Eigen::Vector3d g;
+      for (int i = 0; i < 3; ++i) {
+        g[i] = readNumber(node[static_cast<std::size_t>(i)], "gravity[" + std::to_string(i) + "]",
+                          Range{-1e9, 1e9, false, false});
+      }
+      if (g.norm() > 1e-12) return g;
+    }
+    fail(node, "gravity", describe(node), "auto or a non-zero [x, y, z] pointing down in the map frame");
+  }
+
+  std::string file_;
+};
+
+}  // namespace
+
+double RobotProfile::footprintCircumradiusM() const {
+  if (footprint == FootprintShape::kDisc) return footprint_radius_m;
+  return 0.5 * std::hypot(footprint_length_m, footprint_width_m);
+}
+
+void RobotProfile::validate() const {
+  const std::vector<std::string> problems = problemsOf(*this);
+  if (problems.empty()) return;
+  std::string message = "invalid robot profile \"" + name + "\":";
+  for (const std::string& p : problems) message += "\n  " + p;
+  throw std::invalid_argument(message);
+}
+
+RobotProfile loadRobotProfile(const std::filesystem::path& path) { return ProfileReader(path).read(); }
+
+void writeRobotProfile(const std::filesystem::path& path, const RobotProfile& profile) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << profile.name;
+  out << YAML::Key << "footprint" << YAML::Value << YAML::BeginMap;
+  if (profile.footprint == FootprintShape::kDisc) {
+    out << YAML::Key << "radius_m" << YAML::Value << profile.footprint_radius_m;
+  } else {
+    out << YAML::Key << "length_m" << YAML::Value << profile.footprint_length_m;
+    out << YAML::Key << "width_m" << YAML::Value << profile.footprint_width_m;
+  }
+  out << YAML::EndMap;
+  RobotProfile copy = profile;
+  for (const NumericKey& key : numericKeys()) {
+    const std::string k = key.key;
+    if (k.find('.') != std::string::npos) continue;
+    out << YAML::Key << k << YAML::Value << key.field(copy);
+  }
+  out << YAML::Key << "contact_headings" << YAML::Value << profile.contact_headings;
+  out << YAML::Key << "min_rays" << YAML::Value << profile.min_rays;
+  out << YAML::Key << "weights" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "slope" << YAML::Value << profile.weights.slope;
+  out << YAML::Key << "step" << YAML::Value << profile.weights.step;
+  out << YAML::Key << "roughness" << YAML::Value << profile.weights.roughness;
+  out << YAML::Key << "contact" << YAML::Value << profile.weights.contact;
+  out << YAML::Key << "inflation" << YAML::Value << profile.weights.inflation;
+  out << YAML::EndMap;
+  out << YAML::Key << "gravity" << YAML::Value;
+  if (profile.gravity_W) {
+    out << YAML::Flow << YAML::BeginSeq << profile.gravity_W->x() << profile.gravity_W->y() << profile.gravity_W->z()
+        << YAML::EndSeq;
+  } else {
+    out << "auto";
+  }
+  out << YAML::EndMap;
+  writeFileAtomically(path, std::string(out.c_str()) + "\n");
+}
+
+}  // namespace terramesh::traversability

@@ -1,0 +1,141 @@
+#include "surface_store.h"
+
+#include <algorithm>
+#include <cmath>
+#include <Eigen/Geometry>
+
+namespace terramesh::traversability::internal {
+
+SurfaceStore::SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m)
+    : R_L_W_(R_L_W), metres_per_unit_(metres_per_unit), cell_m_(cell_m) {}
+
+std::int64_t SurfaceStore::cellIndex(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_m_)); }
+
+SurfaceStore::CellKey SurfaceStore::cellKey(std::int64_t i, std::int64_t j) const {
+  const auto pack = [](std::int64_t x) { return static_cast<std::uint64_t>(x + (std::int64_t{1} << 31)) & 0xffffffffull; };
+  return pack(i) | (pack(j) << 32);
+}
+
+Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
+  if (auto existing = find(input.key)) remove(input.key);
+  Slot s;
+  if (!free_slots_.empty()) {
+    s = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    s = static_cast<Slot>(faces_.size());
+    faces_.emplace_back();
+    bounds_.emplace_back();
+  }
+  StoredFace& f = faces_[s];
+  f = StoredFace{};
+  f.key = input.key;
+  f.vertices = input.vertices;
+  f.positions_W = input.positions_W;
+  for (int i = 0; i < 3; ++i) f.p_L[i] = R_L_W_ * (input.positions_W[i] * metres_per_unit_);
+  f.centroid_L = (f.p_L[0] + f.p_L[1] + f.p_L[2]) / 3.0;
+  const Eigen::Vector3d n = (f.p_L[1] - f.p_L[0]).cross(f.p_L[2] - f.p_L[0]);
+  f.normal_L = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
+  f.box_min = f.p_L[0].head<2>().cwiseMin(f.p_L[1].head<2>()).cwiseMin(f.p_L[2].head<2>());
+  f.box_max = f.p_L[0].head<2>().cwiseMax(f.p_L[1].head<2>()).cwiseMax(f.p_L[2].head<2>());
+  {
+    const Eigen::Vector2d a = f.p_L[0].head<2>(), b = f.p_L[1].head<2>(), c = f.p_L[2].head<2>();
+    f.projected_det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+  }
+  f.min_z = std::min({f.p_L[0].z(), f.p_L[1].z(), f.p_L[2].z()});
+  f.max_z = std::max({f.p_L[0].z(), f.p_L[1].z(), f.p_L[2].z()});
+  f.rays = input.rays;
+  f.steiner = input.touches_steiner;
+  for (const auto& v : input.vertices) f.steiner = f.steiner || v.steiner;
+  f.alive = true;
+  bounds_[s] = FaceBounds{f.box_min, f.box_max, f.normal_L.z(), true};
+  by_key_[f.key] = s;
+  link(s);
+  return s;
+}
+
+std::optional<StoredFace> SurfaceStore::remove(const mesher::FaceKey& key) {
+  const auto it = by_key_.find(key);
+  if (it == by_key_.end()) return std::nullopt;
+  const Slot s = it->second;
+  by_key_.erase(it);
+  unlink(s);
+  StoredFace copy = faces_[s];
+  faces_[s].alive = false;
+  bounds_[s].alive = false;
+  free_slots_.push_back(s);
+  return copy;
+}
+
+void SurfaceStore::clear() {
+  faces_.clear();
+  bounds_.clear();
+  free_slots_.clear();
+  by_key_.clear();
+  by_vertex_.clear();
+  grid_.clear();
+  marks_.clear();
+  epoch_ = 0;
+}
+
+std::optional<Slot> SurfaceStore::find(const mesher::FaceKey& key) const {
+  const auto it = by_key_.find(key);
+  if (it == by_key_.end()) return std::nullopt;
+  return it->second;
+}
+
+void SurfaceStore::link(Slot s) {
+  const StoredFace& f = faces_[s];
+  for (const auto& v : f.vertices) by_vertex_[v].push_back(s);
+  for (std::int64_t i = cellIndex(f.box_min.x()); i <= cellIndex(f.box_max.x()); ++i) {
+    for (std::int64_t j = cellIndex(f.box_min.y()); j <= cellIndex(f.box_max.y()); ++j) {
+      grid_[cellKey(i, j)].push_back(s);
+    }
+  }
+}
+
+void SurfaceStore::unlink(Slot s) {
+  const StoredFace& f = faces_[s];
+  const auto erase = [s](std::vector<Slot>& list) {
+    const auto it = std::find(list.begin(), list.end(), s);
+    if (it != list.end()) {
+      *it = list.back();
+      list.pop_back();
+    }
+  };
+  for (const auto& v : f.vertices) {
+    const auto it = by_vertex_.find(v);
+    if (it == by_vertex_.end()) continue;
+    erase(it->second);
+    if (it->second.empty()) by_vertex_.erase(it);
+  }
+  for (std::int64_t i = cellIndex(f.box_min.x()); i <= cellIndex(f.box_max.x()); ++i) {
+    for (std::int64_t j = cellIndex(f.box_min.y()); j <= cellIndex(f.box_max.y()); ++j) {
+      const auto it = grid_.find(cellKey(i, j));
+      if (it == grid_.end()) continue;
+      erase(it->second);
+      if (it->second.empty()) grid_.erase(it);
+    }
+  }
+}
+
+void SurfaceStore::neighbours(Slot s, std::vector<Slot>& out) const {
+  out.clear();
+  const StoredFace& f = faces_[s];
+  for (int e = 0; e < 3; ++e) {
+    const mesher::VertexKey& a = f.vertices[e];
+    const mesher::VertexKey& b = f.vertices[(e + 1) % 3];
+    const auto it = by_vertex_.find(a);
+    if (it == by_vertex_.end()) continue;
+    for (Slot t : it->second) {
+      if (t == s) continue;
+      const auto& tv = faces_[t].vertices;
+      if (std::find(tv.begin(), tv.end(), b) != tv.end() &&
+          std::find(out.begin(), out.end(), t) == out.end()) {
+        out.push_back(t);
+      }
+    }
+  }
+}
+
+}  // namespace terramesh::traversability::internal

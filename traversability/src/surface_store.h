@@ -1,0 +1,151 @@
+#pragma once
+// The faces of a surface with the indexes the layers need: by key, by vertex (adjacency) and a
+// hash grid in the horizontal plane. Internal to terramesh::traversability.
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "mesher/surface_delta.h"
+#include "traversability/layered_mesh.h"
+
+namespace terramesh::traversability::internal {
+
+/// A face as the layers see it. Coordinates "L" are metres in a frame whose z axis is up, so
+/// "height" is z and the horizontal plane is xy.
+struct StoredFace {
+  mesher::FaceKey key;
+  std::array<mesher::VertexKey, 3> vertices;
+  std::array<Eigen::Vector3d, 3> positions_W;  ///< as given, map units
+  std::array<Eigen::Vector3d, 3> p_L;          ///< metres, up = +z
+  Eigen::Vector3d centroid_L = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_L = Eigen::Vector3d::UnitZ();  ///< unit (zero for a degenerate face)
+  Eigen::Vector2d box_min = Eigen::Vector2d::Zero();    ///< horizontal bounding box
+  Eigen::Vector2d box_max = Eigen::Vector2d::Zero();
+  double min_z = 0;
+  double max_z = 0;
+  /// Twice the signed area of the horizontal projection (cached for heightAt).
+  double projected_det = 0;
+  std::uint32_t rays = 0;
+  bool steiner = false;
+  bool alive = false;
+  FaceLayers layers;
+  /// Fraction of the footprint samples that found ground on faces no steeper than max_slope
+  /// (set with the local layers; tells a step riser from a steep ramp).
+  float level_fraction = 0;
+
+  /// Height of the face's plane at horizontal position (x, y), if (x, y) lies in the face's
+  /// horizontal projection and the face is not vertical.
+  std::optional<double> heightAt(double x, double y) const;
+};
+
+/// Slot index of a stored face (stable while the face lives).
+using Slot = std::uint32_t;
+
+/// The few fields of a StoredFace that neighbourhood queries filter on, packed densely (a copy).
+struct FaceBounds {
+  Eigen::Vector2d box_min = Eigen::Vector2d::Zero();
+  Eigen::Vector2d box_max = Eigen::Vector2d::Zero();
+  double normal_z = 1;
+  bool alive = false;
+};
+
+/// Faces by key, vertex and horizontal grid cell. Each face is registered in every grid cell its
+/// horizontal bounding box overlaps, so point queries see large faces too. Not thread-safe (the
+/// queries use scratch marks).
+class SurfaceStore {
+ public:
+  /// @param R_L_W rotation taking map-frame directions to L (up_W -> +z).
+  SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m);
+
+  /// Adds a face, replacing one with the same key. Returns its slot.
+  Slot add(const mesher::SurfaceFace& face);
+  /// Removes the face with this key; returns a copy of it, or nothing if unknown.
+  std::optional<StoredFace> remove(const mesher::FaceKey& key);
+  void clear();
+
+  std::optional<Slot> find(const mesher::FaceKey& key) const;
+  const StoredFace& face(Slot s) const { return faces_[s]; }
+  StoredFace& face(Slot s) { return faces_[s]; }
+  /// The face's box, normal z and liveness (equal to those of face(s)).
+  const FaceBounds& bounds(Slot s) const { return bounds_[s]; }
+  /// Number of slots (alive or not).
+  std::size_t slotCount() const { return faces_.size(); }
+  std::size_t size() const { return by_key_.size(); }
+
+  /// Calls f(slot) once for every alive face registered in a grid cell overlapping the box.
+  template <class F>
+  void forEachInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, F&& f) const;
+  /// Calls f(slot) for every alive face registered in the grid cell of (x, y) (a superset of the
+  /// faces whose projection contains the point).
+  template <class F>
+  void forEachAt(double x, double y, F&& f) const;
+  /// Faces sharing an edge with `s`.
+  void neighbours(Slot s, std::vector<Slot>& out) const;
+
+ private:
+  using CellKey = std::uint64_t;
+  CellKey cellKey(std::int64_t i, std::int64_t j) const;
+  std::int64_t cellIndex(double v) const;
+  void link(Slot s);
+  void unlink(Slot s);
+
+  Eigen::Matrix3d R_L_W_;
+  double metres_per_unit_;
+  double cell_m_;
+  std::vector<StoredFace> faces_;
+  std::vector<FaceBounds> bounds_;
+  std::vector<Slot> free_slots_;
+  std::unordered_map<mesher::FaceKey, Slot> by_key_;
+  std::unordered_map<mesher::VertexKey, std::vector<Slot>> by_vertex_;
+  std::unordered_map<CellKey, std::vector<Slot>> grid_;
+  mutable std::vector<std::uint32_t> marks_;
+  mutable std::uint32_t epoch_ = 0;
+};
+
+inline std::optional<double> StoredFace::heightAt(double x, double y) const {
+  const double det = projected_det;
+  if (std::abs(det) < 1e-12) return std::nullopt;
+  const double ax = p_L[0].x(), ay = p_L[0].y(), bx = p_L[1].x(), by = p_L[1].y(), cx = p_L[2].x(), cy = p_L[2].y();
+  const double u = ((bx - x) * (cy - y) - (cx - x) * (by - y)) / det;
+  const double v = ((cx - x) * (ay - y) - (ax - x) * (cy - y)) / det;
+  const double w = 1.0 - u - v;
+  constexpr double kEps = -1e-12;
+  if (u < kEps || v < kEps || w < kEps) return std::nullopt;
+  return u * p_L[0].z() + v * p_L[1].z() + w * p_L[2].z();
+}
+
+template <class F>
+void SurfaceStore::forEachInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, F&& f) const {
+  if (++epoch_ == 0) {
+    std::fill(marks_.begin(), marks_.end(), 0u);
+    epoch_ = 1;
+  }
+  if (marks_.size() < faces_.size()) marks_.resize(faces_.size(), 0u);
+  const std::int64_t i0 = cellIndex(lo.x()), i1 = cellIndex(hi.x());
+  const std::int64_t j0 = cellIndex(lo.y()), j1 = cellIndex(hi.y());
+  for (std::int64_t i = i0; i <= i1; ++i) {
+    for (std::int64_t j = j0; j <= j1; ++j) {
+      const auto it = grid_.find(cellKey(i, j));
+      if (it == grid_.end()) continue;
+      for (Slot s : it->second) {
+        if (marks_[s] == epoch_) continue;
+        marks_[s] = epoch_;
+        f(s);
+      }
+    }
+  }
+}
+
+template <class F>
+void SurfaceStore::forEachAt(double x, double y, F&& f) const {
+  const auto it = grid_.find(cellKey(cellIndex(x), cellIndex(y)));
+  if (it == grid_.end()) return;
+  for (Slot s : it->second) f(s);
+}
+
+}  // namespace terramesh::traversability::internal

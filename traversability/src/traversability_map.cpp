@@ -1,0 +1,457 @@
+#include "traversability/traversability_map.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <queue>
+#include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "layer_computer.h"
+#include "surface_store.h"
+
+namespace terramesh::traversability {
+namespace {
+
+using internal::Slot;
+using internal::StoredFace;
+using internal::SurfaceStore;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Rotation taking map-frame directions into L, where up_W becomes +z.
+Eigen::Matrix3d levelRotation(const Eigen::Vector3d& up_W) {
+  const Eigen::Vector3d z = up_W.normalized();
+  const Eigen::Vector3d a = std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d x = (a - z * z.dot(a)).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R;
+  R.row(0) = x.transpose();
+  R.row(1) = y.transpose();
+  R.row(2) = z.transpose();
+  return R;
+}
+
+/// Grid cell of the horizontal index: about half the footprint, so a footprint query reads a few
+/// cells and a point query a short list.
+double gridCellM(const RobotProfile& profile) {
+  return std::clamp(profile.footprintCircumradiusM(), 1.0, 4.0);
+}
+
+/// A face's projection on the horizontal plane.
+struct Projection {
+  std::array<Eigen::Vector2d, 3> p;
+  Eigen::Vector2d lo, hi;
+};
+
+Projection projectionOf(const StoredFace& f) {
+  return {{f.p_L[0].head<2>(), f.p_L[1].head<2>(), f.p_L[2].head<2>()}, f.box_min, f.box_max};
+}
+
+double distanceToSegment(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((q - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - q).norm();
+}
+
+/// Horizontal distance from q to a projected face (0 inside it).
+double distanceToTriangle(const Eigen::Vector2d& q, const Projection& t) {
+  const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
+  const double d0 = cross(t.p[1] - t.p[0], q - t.p[0]);
+  const double d1 = cross(t.p[2] - t.p[1], q - t.p[1]);
+  const double d2 = cross(t.p[0] - t.p[2], q - t.p[2]);
+  if ((d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0)) return 0.0;
+  return std::min({distanceToSegment(q, t.p[0], t.p[1]), distanceToSegment(q, t.p[1], t.p[2]),
+                   distanceToSegment(q, t.p[2], t.p[0])});
+}
+
+/// Whether a stored face has exactly the vertices (same order), positions and Steiner flag of
+/// `face`: then replacing it would change no layer but its own observation count.
+bool sameGeometry(const StoredFace& stored, const mesher::SurfaceFace& face) {
+  bool steiner = face.touches_steiner;
+  for (const mesher::VertexKey& v : face.vertices) steiner = steiner || v.steiner;
+  return stored.vertices == face.vertices && stored.positions_W == face.positions_W && stored.steiner == steiner;
+}
+
+}  // namespace
+
+void MapFrame::validate() const {
+  std::string problems;
+  if (!up_W.allFinite() || up_W.norm() < 1e-12) problems += "\n  up_W: not a finite non-zero vector";
+  if (!(metres_per_unit > 0) || !std::isfinite(metres_per_unit)) {
+    problems += "\n  metres_per_unit: " + std::to_string(metres_per_unit) + " (expected > 0)";
+  }
+  if (!problems.empty()) throw std::invalid_argument("invalid map frame:" + problems);
+}
+
+Eigen::Vector3d estimateUpFromCameras(const std::vector<Eigen::Matrix3d>& rotations_W_C) {
+  if (rotations_W_C.empty()) throw std::invalid_argument("estimateUpFromCameras: no camera rotations");
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Matrix3d& R : rotations_W_C) sum -= R.col(1);  // image up = -y of the camera
+  if (!sum.allFinite() || sum.norm() < 1e-6 * static_cast<double>(rotations_W_C.size())) {
+    throw std::invalid_argument("estimateUpFromCameras: the cameras' up axes cancel out");
+  }
+  return sum.normalized();
+}
+
+class TraversabilityMap::Impl {
+ public:
+  Impl(const RobotProfile& profile, const MapFrame& frame)
+      : profile_(profile),
+        frame_(frame),
+        computer_(profile),
+        store_(levelRotation(frame.up_W), frame.metres_per_unit, gridCellM(profile)) {}
+
+  LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces) {
+    const auto start = std::chrono::steady_clock::now();
+    store_.clear();
+    distance_.clear();
+    lethal_.clear();
+    for (const mesher::SurfaceFace& face : faces) store_.add(face);
+    grow();
+    std::vector<Slot> all;
+    for (Slot s = 0; s < store_.slotCount(); ++s) {
+      if (store_.face(s).alive) all.push_back(s);
+    }
+    for (Slot s : all) computeLocalAndLethal(s);
+    fullInflation();
+    for (Slot s : all) finish(s);
+    LayerUpdateStats stats;
+    stats.faces_added = all.size();
+    stats.faces_recomputed = all.size();
+    stats.faces_total = store_.size();
+    stats.full_rebuild = true;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+  }
+
+  LayerUpdateStats apply(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around) {
+    if (!delta.complete) {
+      throw std::invalid_argument("TraversabilityMap::apply: incomplete delta (history forgotten); call reset()");
+    }
+    const auto start = std::chrono::steady_clock::now();
+    LayerUpdateStats stats;
+    std::vector<Eigen::Vector3d> change_points;  // centroids (L) of faces added, removed, re-judged
+    std::vector<Projection> changed;  // horizontal projections of the faces added and removed
+    const auto removeKey = [&](const mesher::FaceKey& key) {
+      const std::optional<Slot> slot = store_.find(key);
+      if (!slot) return false;
+      lethal_[*slot] = 0;
+      distance_[*slot] = kInf;
+      const std::optional<StoredFace> old = store_.remove(key);
+      change_points.push_back(old->centroid_L);
+      changed.push_back(projectionOf(*old));
+      return true;
+    };
+    // Churn: a face removed and re-added with the same vertices and positions changes nothing
+    // but (maybe) its observation count, which is re-read like the counts of `around`.
+    std::vector<Slot> reobserved;
+    const auto setRays = [&](Slot s, std::uint32_t rays) {
+      StoredFace& f = store_.face(s);
+      if (f.rays == rays) return;
+      f.rays = rays;
+      f.layers.rays = rays;
+      reobserved.push_back(s);
+    };
+    std::unordered_set<mesher::FaceKey> unchanged;
+    for (const mesher::SurfaceFace& face : delta.added) {
+      const std::optional<Slot> s = store_.find(face.key);
+      if (!s || !sameGeometry(store_.face(*s), face)) continue;
+      unchanged.insert(face.key);
+      setRays(*s, face.rays);
+    }
+    stats.faces_readded_unchanged = unchanged.size();
+    for (const mesher::FaceKey& key : delta.removed) {
+      stats.faces_removed += unchanged.count(key) != 0 || removeKey(key) ? 1 : 0;
+    }
+    std::vector<Slot> added;
+    for (const mesher::SurfaceFace& face : delta.added) {
+      if (unchanged.count(face.key) != 0) {
+        ++stats.faces_added;
+        continue;
+      }
+      removeKey(face.key);
+      const Slot s = store_.add(face);
+      grow();
+      lethal_[s] = 0;
+      distance_[s] = kInf;
+      added.push_back(s);
+      const StoredFace& f = store_.face(s);
+      change_points.push_back(f.centroid_L);
+      changed.push_back(projectionOf(f));
+    }
+    stats.faces_added += added.size();
+    for (const mesher::SurfaceFace& face : around) {
+      if (const std::optional<Slot> s = store_.find(face.key)) setRays(*s, face.rays);
+    }
+    stats.faces_reobserved = reobserved.size();
+
+    // Local layers: every face whose footprint disc or clearance column meets a changed face.
+    const double reach = computer_.reachM() * (1 + 1e-9) + 1e-6;
+    const std::uint32_t epoch = nextEpoch();
+    std::vector<Slot> dirty;
+    const auto markDirty = [&](Slot s) {
+      if (mark_[s] == epoch) return;
+      mark_[s] = epoch;
+      dirty.push_back(s);
+    };
+    for (Slot s : added) markDirty(s);
+    for (const Projection& p : changed) {
+      const Eigen::Vector2d r(reach, reach);
+      store_.forEachInBox(p.lo - r, p.hi + r, [&](Slot s) {
+        if (mark_[s] != epoch && distanceToTriangle(store_.face(s).centroid_L.head<2>(), p) <= reach) markDirty(s);
+      });
+    }
+    for (Slot s : dirty) {
+      const char was_lethal = lethal_[s];
+      computeLocalAndLethal(s);
+      if (lethal_[s] != was_lethal) change_points.push_back(store_.face(s).centroid_L);
+    }
+    for (Slot s : reobserved) {
+      if (mark_[s] == epoch) continue;
+      const char was_lethal = lethal_[s];
+      lethal_[s] = isLethal(s);
+      if (lethal_[s] != was_lethal) change_points.push_back(store_.face(s).centroid_L);
+      markDirty(s);
+    }
+
+    // Inflation: every face within the inflation radius of a change may have a new distance.
+    std::vector<Slot> region = localInflation(change_points);
+    const std::uint32_t finish_epoch = nextEpoch();
+    std::size_t recomputed = 0;
+    for (const std::vector<Slot>* list : {&dirty, &region}) {
+      for (Slot s : *list) {
+        if (mark_[s] == finish_epoch || !store_.face(s).alive) continue;
+        mark_[s] = finish_epoch;
+        finish(s);
+        ++recomputed;
+      }
+    }
+    stats.faces_recomputed = recomputed;
+    stats.faces_total = store_.size();
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+  }
+
+  LayeredMesh snapshot() const {
+    std::vector<Slot> slots;
+    for (Slot s = 0; s < store_.slotCount(); ++s) {
+      if (store_.face(s).alive) slots.push_back(s);
+    }
+    std::sort(slots.begin(), slots.end(), [&](Slot a, Slot b) { return store_.face(a).key < store_.face(b).key; });
+    std::map<mesher::VertexKey, Eigen::Vector3d> vertices;
+    for (Slot s : slots) {
+      const StoredFace& f = store_.face(s);
+      for (int i = 0; i < 3; ++i) vertices.emplace(f.vertices[i], f.positions_W[i]);
+    }
+    LayeredMesh out;
+    out.up_W = frame_.up_W.normalized();
+    out.metres_per_unit = frame_.metres_per_unit;
+    std::unordered_map<mesher::VertexKey, std::uint32_t> index;
+    for (const auto& [key, position] : vertices) {
+      index.emplace(key, static_cast<std::uint32_t>(out.mesh.vertices.size()));
+      out.mesh.vertices.push_back(position);
+      out.mesh.is_steiner.push_back(key.steiner ? 1 : 0);
+      out.mesh.vertex_keys.push_back(key);
+    }
+    for (Slot s : slots) {
+      const StoredFace& f = store_.face(s);
+      out.mesh.faces.push_back({index.at(f.vertices[0]), index.at(f.vertices[1]), index.at(f.vertices[2])});
+      out.layers.push_back(f.layers);
+      out.face_keys.push_back(f.key);
+    }
+    return out;
+  }
+
+  std::size_t faceCount() const { return store_.size(); }
+  const RobotProfile& profile() const { return profile_; }
+  const MapFrame& frame() const { return frame_; }
+  /// Layers of the face with this key (for computeForMesh).
+  const FaceLayers* layersOf(const mesher::FaceKey& key) const {
+    const std::optional<Slot> s = store_.find(key);
+    return s ? &store_.face(*s).layers : nullptr;
+  }
+
+ private:
+  void grow() {
+    distance_.resize(store_.slotCount(), kInf);
+    lethal_.resize(store_.slotCount(), 0);
+    mark_.resize(store_.slotCount(), 0);
+  }
+
+  std::uint32_t nextEpoch() {
+    if (++epoch_ == 0) {
+      std::fill(mark_.begin(), mark_.end(), 0u);
+      epoch_ = 1;
+    }
+    return epoch_;
+  }
+
+  void computeLocalAndLethal(Slot s) {
+    computer_.computeLocal(store_, s);
+    lethal_[s] = isLethal(s);
+  }
+
+  /// Known and lethal, from the face's current local layers.
+  char isLethal(Slot s) const {
+    const StoredFace& f = store_.face(s);
+    const bool known = !f.steiner && f.rays >= static_cast<std::uint32_t>(profile_.min_rays);
+    return known && computer_.lethal(f) ? 1 : 0;
+  }
+
+  void finish(Slot s) {
+    StoredFace& f = store_.face(s);
+    f.layers.lethal_distance_m = static_cast<float>(distance_[s]);
+    computer_.classify(f);
+  }
+
+  double edgeM(Slot a, Slot b) const { return (store_.face(a).centroid_L - store_.face(b).centroid_L).norm(); }
+
+  using QueueEntry = std::pair<double, Slot>;
+  using Queue = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>>;
+
+  /// Dijkstra from the queue, relaxing only faces for which `inside` holds; distances beyond the
+  /// inflation radius are not kept.
+  template <class Inside>
+  void dijkstra(Queue& queue, Inside&& inside) {
+    const double cutoff = profile_.inflation_radius_m;
+    while (!queue.empty()) {
+      const auto [d, s] = queue.top();
+      queue.pop();
+      if (d > distance_[s]) continue;
+      store_.neighbours(s, scratch_);
+      for (Slot t : scratch_) {
+        if (!inside(t)) continue;
+        const double nd = d + edgeM(s, t);
+        if (nd <= cutoff && nd < distance_[t]) {
+          distance_[t] = nd;
+          queue.emplace(nd, t);
+        }
+      }
+    }
+  }
+
+  void fullInflation() {
+    Queue queue;
+    for (Slot s = 0; s < store_.slotCount(); ++s) {
+      distance_[s] = kInf;
+      if (store_.face(s).alive && lethal_[s]) {
+        distance_[s] = 0;
+        queue.emplace(0.0, s);
+      }
+    }
+    dijkstra(queue, [](Slot) { return true; });
+  }
+
+  /// Recomputes the distances of the faces within the inflation radius (straight-line, a lower
+  /// bound of the geodesic one) of a change, seeded by their lethal faces and by the unchanged
+  /// distances of the faces around them. Returns the faces recomputed.
+  std::vector<Slot> localInflation(const std::vector<Eigen::Vector3d>& change_points) {
+    const double r = profile_.inflation_radius_m * (1 + 1e-9) + 1e-9;
+    const std::uint32_t epoch = nextEpoch();
+    std::vector<Slot> region;
+    for (const Eigen::Vector3d& p : change_points) {
+      const Eigen::Vector2d h = p.head<2>(), rr(r, r);
+      store_.forEachInBox(h - rr, h + rr, [&](Slot s) {
+        if (mark_[s] == epoch || (store_.face(s).centroid_L - p).norm() > r) return;
+        mark_[s] = epoch;
+        region.push_back(s);
+      });
+    }
+    Queue queue;
+    for (Slot s : region) distance_[s] = kInf;
+    for (Slot s : region) {
+      if (lethal_[s]) {
+        distance_[s] = 0;
+        queue.emplace(0.0, s);
+        continue;
+      }
+      store_.neighbours(s, scratch_);
+      for (Slot b : scratch_) {
+        if (mark_[b] == epoch || !std::isfinite(distance_[b])) continue;
+        const double nd = distance_[b] + edgeM(b, s);
+        if (nd <= profile_.inflation_radius_m && nd < distance_[s]) distance_[s] = nd;
+      }
+      if (std::isfinite(distance_[s])) queue.emplace(distance_[s], s);
+    }
+    dijkstra(queue, [&](Slot t) { return mark_[t] == epoch; });
+    return region;
+  }
+
+  RobotProfile profile_;
+  MapFrame frame_;
+  internal::LayerComputer computer_;
+  SurfaceStore store_;
+  std::vector<double> distance_;  ///< per slot, geodesic metres to the nearest lethal face
+  std::vector<char> lethal_;      ///< per slot
+  std::vector<std::uint32_t> mark_;
+  std::uint32_t epoch_ = 0;
+  std::vector<Slot> scratch_;
+};
+
+TraversabilityMap::TraversabilityMap(const RobotProfile& profile, const MapFrame& frame) {
+  profile.validate();
+  frame.validate();
+  impl_ = std::make_unique<Impl>(profile, frame);
+}
+
+TraversabilityMap::~TraversabilityMap() = default;
+TraversabilityMap::TraversabilityMap(TraversabilityMap&&) noexcept = default;
+TraversabilityMap& TraversabilityMap::operator=(TraversabilityMap&&) noexcept = default;
+
+LayerUpdateStats TraversabilityMap::apply(const mesher::SurfaceDelta& delta) { return impl_->apply(delta, {}); }
+LayerUpdateStats TraversabilityMap::apply(const mesher::SurfaceDelta& delta,
+                                          const std::vector<mesher::SurfaceFace>& faces_around_touched) {
+  return impl_->apply(delta, faces_around_touched);
+}
+LayerUpdateStats TraversabilityMap::reset(const std::vector<mesher::SurfaceFace>& faces) { return impl_->reset(faces); }
+LayeredMesh TraversabilityMap::snapshot() const { return impl_->snapshot(); }
+std::size_t TraversabilityMap::faceCount() const { return impl_->faceCount(); }
+const RobotProfile& TraversabilityMap::profile() const { return impl_->profile(); }
+const MapFrame& TraversabilityMap::frame() const { return impl_->frame(); }
+
+LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, const RobotProfile& profile,
+                                              const MapFrame& frame, std::uint32_t rays_if_unknown) {
+  const bool has_keys = mesh.vertex_keys.size() == mesh.vertices.size();
+  const bool has_flags = mesh.is_steiner.size() == mesh.vertices.size();
+  const auto keyOf = [&](std::uint32_t v) {
+    if (has_keys) return mesh.vertex_keys[v];
+    return mesher::VertexKey{v, has_flags && mesh.is_steiner[v] != 0};
+  };
+  std::vector<mesher::SurfaceFace> faces;
+  faces.reserve(mesh.faces.size());
+  std::vector<mesher::FaceKey> keys;
+  keys.reserve(mesh.faces.size());
+  for (const auto& tri : mesh.faces) {
+    mesher::SurfaceFace face;
+    bool steiner = false;
+    for (int i = 0; i < 3; ++i) {
+      if (tri[i] >= mesh.vertices.size()) throw std::invalid_argument("computeForMesh: face index out of range");
+      face.vertices[i] = keyOf(tri[i]);
+      face.positions_W[i] = mesh.vertices[tri[i]];
+      steiner = steiner || (has_flags && mesh.is_steiner[tri[i]] != 0) || face.vertices[i].steiner;
+    }
+    face.key = mesher::FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
+    face.touches_steiner = steiner;
+    face.rays = steiner ? 0 : rays_if_unknown;
+    keys.push_back(face.key);
+    faces.push_back(face);
+  }
+  TraversabilityMap map(profile, frame);
+  map.reset(faces);
+  LayeredMesh out;
+  out.mesh = mesh;
+  out.up_W = frame.up_W.normalized();
+  out.metres_per_unit = frame.metres_per_unit;
+  out.face_keys = keys;
+  out.layers.reserve(keys.size());
+  for (const mesher::FaceKey& key : keys) out.layers.push_back(*map.impl_->layersOf(key));
+  return out;
+}
+
+}  // namespace terramesh::traversability

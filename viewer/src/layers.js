@@ -1,0 +1,95 @@
+// Per-face colours of a layer: value ramp, then classes (unknown grey, lethal red) on top.
+import { LETHAL_RGB, RAMPS, STEINER_TINT, UNKNOWN_RGB, rampColour } from './colormaps.js';
+
+/** Known layers of traversability.ply (docs/traversability.md); others get an automatic range. */
+const KNOWN = {
+  cost: { label: 'cost (0 free .. 1 limit)', ramp: 'cost', range: [0, 1] },
+  slope_deg: { label: 'slope (deg)' },
+  step_m: { label: 'step (m)' },
+  roughness_m: { label: 'roughness (m)' },
+  contact: { label: 'contact (fraction)' },
+  contact_best: { label: 'best contact (fraction)' },
+  clearance_m: { label: 'clearance (m; inf = nothing above)' },
+  lethal_distance_m: { label: 'distance to lethal (m)' },
+  rays: { label: 'observedness (rays through the face)' },
+  height: { label: 'height along up (map units)' },
+};
+
+/** The layer names a mesh offers, in a useful order: known layers first, then height. */
+export function layerNames(mesh) {
+  const names = Object.keys(mesh.layers);
+  const known = Object.keys(KNOWN).filter((k) => names.includes(k));
+  return [...known, ...names.filter((n) => !known.includes(n)), 'height'];
+}
+
+export function layerLabel(name) { return (KNOWN[name] && KNOWN[name].label) || name; }
+
+/** Robust range: the 2nd..98th percentile of the finite values (sampled). */
+function autoRange(values) {
+  const step = Math.max(1, Math.floor(values.length / 20000));
+  const sample = [];
+  for (let i = 0; i < values.length; i += step) if (Number.isFinite(values[i])) sample.push(values[i]);
+  if (sample.length === 0) return [0, 1];
+  sample.sort((a, b) => a - b);
+  const lo = sample[Math.floor(0.02 * (sample.length - 1))];
+  const hi = sample[Math.ceil(0.98 * (sample.length - 1))];
+  return hi > lo ? [lo, hi] : [lo, lo + 1];
+}
+
+/** Height of each face's centroid along `up` (relative to the mesh origin). */
+function faceHeights(mesh, up) {
+  const h = new Float32Array(mesh.faces);
+  const p = mesh.positions;
+  for (let f = 0; f < mesh.faces; ++f) {
+    const b = 9 * f;
+    h[f] = ((p[b] + p[b + 3] + p[b + 6]) * up[0] + (p[b + 1] + p[b + 4] + p[b + 7]) * up[1] +
+            (p[b + 2] + p[b + 5] + p[b + 8]) * up[2]) / 3;
+  }
+  return h;
+}
+
+/** Light direction for the baked shading: mostly from above, a little from the side. */
+function lightDirection(up) {
+  const u = normalised(up);
+  const side = Math.abs(u[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
+  return normalised([u[0] + 0.45 * side[0], u[1] + 0.45 * side[1], u[2] + 0.45 * side[2]]);
+}
+
+function normalised(v) {
+  const n = Math.hypot(v[0], v[1], v[2]) || 1;
+  return [v[0] / n, v[1] / n, v[2] / n];
+}
+
+/**
+ * Fills `colours` (Uint8Array, 3 corners x RGB per face) for layer `name` and returns the legend
+ * description. Unknown faces (flag, or NaN value) are grey and lethal faces red, on every
+ * traversability layer; Steiner faces are darkened. Flat shading is baked in.
+ */
+export function colourFaces(mesh, name, up, colours) {
+  const known = KNOWN[name] || {};
+  const values = name === 'height' || !mesh.layers[name] ? faceHeights(mesh, up) : mesh.layers[name];
+  const ramp = RAMPS[known.ramp || 'viridis'];
+  const [min, max] = known.range || autoRange(values);
+  const classes = name !== 'height' && (mesh.flags.unknown || mesh.flags.lethal);
+  const unknown = classes ? mesh.flags.unknown : null;
+  const lethal = classes ? mesh.flags.lethal : null;
+  const span = max - min;
+  const light = lightDirection(up);
+  const n = mesh.normals;
+  for (let f = 0; f < mesh.faces; ++f) {
+    const v = values[f];
+    let rgb;
+    if (lethal && lethal[f]) rgb = LETHAL_RGB;
+    else if ((unknown && unknown[f]) || (classes && Number.isNaN(v))) rgb = UNKNOWN_RGB;
+    else rgb = rampColour(ramp, v === Infinity ? 1 : (v - min) / span);
+    // Flat Lambert shading of a two-sided surface, baked in (the material is unlit).
+    const lambert = Math.abs(n[3 * f] * light[0] + n[3 * f + 1] * light[1] + n[3 * f + 2] * light[2]);
+    const tint = (0.45 + 0.55 * lambert) * (f >= mesh.measured ? STEINER_TINT : 1);
+    for (let c = 0; c < 3; ++c) {
+      colours[9 * f + 3 * c] = rgb[0] * tint;
+      colours[9 * f + 3 * c + 1] = rgb[1] * tint;
+      colours[9 * f + 3 * c + 2] = rgb[2] * tint;
+    }
+  }
+  return { title: layerLabel(name), ramp, min, max, classes: Boolean(classes) };
+}

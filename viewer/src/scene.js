@@ -1,0 +1,136 @@
+// The three.js side: renderer, camera and controls, the map mesh, and rendering on demand (a
+// frame only when something changed, which keeps an idle page at zero CPU).
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+export class MapScene {
+  constructor(canvas) {
+    this.canvas = canvas;
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
+    this.renderer.setClearColor(0x1e2228);
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(50, 1, 0.01, 1000);
+    this.controls = new OrbitControls(this.camera, canvas);
+    this.controls.addEventListener('change', () => this.requestRender());
+    // While the user drags, render at half resolution: software rendering is fill-bound.
+    this.pixelRatio = Math.min(2, window.devicePixelRatio || 1);
+    this.renderer.setPixelRatio(this.pixelRatio);
+    this.controls.addEventListener('start', () => this.setPixelRatio(0.5 * this.pixelRatio));
+    this.controls.addEventListener('end', () => this.setPixelRatio(this.pixelRatio));
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 1.6));
+    this.sun = new THREE.DirectionalLight(0xffffff, 1.4);
+    this.scene.add(this.sun);
+    this.overlays = new THREE.Group();
+    this.scene.add(this.overlays);
+    // Shading is baked into the colours (layers.js): the cheapest fragment shader, which is what
+    // keeps large maps interactive in software rendering.
+    this.material = new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide });
+    this.mesh = null;
+    this.frames = 0;
+    this.pending = false;
+    new ResizeObserver(() => this.resize()).observe(canvas);
+    this.resize();
+  }
+
+  setPixelRatio(ratio) {
+    this.renderer.setPixelRatio(ratio);
+    this.resize();
+  }
+
+  resize() {
+    const { clientWidth: w, clientHeight: h } = this.canvas;
+    if (w === 0 || h === 0) return;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  requestRender() {
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => { this.pending = false; this.renderNow(); });
+  }
+
+  renderNow() {
+    this.renderer.render(this.scene, this.camera);
+    ++this.frames;
+  }
+
+  /** Sets the world's up vector (map_frame.yaml) and places the camera to see `radius` around 0. */
+  frame(up, radius) {
+    const u = new THREE.Vector3(...up).normalize();
+    this.camera.up.copy(u);
+    const side = Math.abs(u.x) < 0.9 ? new THREE.Vector3(1, 0, 0) : new THREE.Vector3(0, 1, 0);
+    side.sub(u.clone().multiplyScalar(side.dot(u))).normalize();
+    const r = Math.max(radius, 1e-3);
+    this.camera.position.copy(u.clone().multiplyScalar(1.5 * r).add(side.multiplyScalar(-1.1 * r)));
+    this.camera.near = r / 1000;
+    this.camera.far = r * 50;
+    this.camera.updateProjectionMatrix();
+    this.controls.target.set(0, 0, 0);
+    this.controls.update();
+    this.sun.position.copy(u.clone().multiplyScalar(2 * r).add(new THREE.Vector3(r, 0.5 * r, 0)));
+    this.requestRender();
+  }
+
+  /** Replaces the map mesh by a worker-built one; returns its colour buffer to fill. */
+  setMesh(data) {
+    if (this.mesh) {
+      this.scene.remove(this.mesh);
+      this.mesh.geometry.dispose();
+    }
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(data.positions, 3));
+    const colours = new Uint8Array(data.positions.length);
+    geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3, true));
+    geometry.computeBoundingSphere();
+    this.mesh = new THREE.Mesh(geometry, this.material);
+    this.mesh.userData = data;
+    this.scene.add(this.mesh);
+    this.requestRender();
+    return colours;
+  }
+
+  coloursChanged() {
+    if (!this.mesh) return;
+    this.mesh.geometry.attributes.color.needsUpdate = true;
+    this.requestRender();
+  }
+
+  /** Measured faces come first: hiding Steiner faces draws only them. */
+  showSteiner(show) {
+    if (!this.mesh) return;
+    const data = this.mesh.userData;
+    this.mesh.geometry.setDrawRange(0, 3 * (show ? data.faces : data.measured));
+    this.requestRender();
+  }
+
+  /**
+   * Renders continuously for `seconds`, turning the camera, and returns frames per second.
+   * `finish` waits for each frame on the CPU (SwiftShader otherwise queues work and the count lies);
+   * `dragging` renders at the reduced resolution used while the user drags.
+   */
+  measureFps(seconds, finish = true, dragging = false) {
+    if (dragging) this.setPixelRatio(0.5 * this.pixelRatio);
+    return new Promise((resolve) => {
+      const start = performance.now();
+      let frames = 0;
+      const tick = () => {
+        const elapsed = performance.now() - start;
+        if (elapsed >= 1000 * seconds) {
+          if (dragging) this.setPixelRatio(this.pixelRatio);
+          resolve((1000 * frames) / elapsed);
+          return;
+        }
+        this.controls.object.position.applyAxisAngle(this.camera.up, 0.01);
+        this.controls.update();
+        this.renderNow();
+        if (finish) this.renderer.getContext().finish();
+        ++frames;
+        requestAnimationFrame(tick);
+      };
+      requestAnimationFrame(tick);
+    });
+  }
+}
