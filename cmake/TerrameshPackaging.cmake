@@ -22,7 +22,7 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
-# The CLI's shared libraries (libpng, GMP, MPFR, yaml-cpp, GDAL, OMPL...) as dpkg-shlibdeps finds
+# The CLI's shared libraries (GMP, MPFR, yaml-cpp, GDAL, OMPL...) as dpkg-shlibdeps finds
 # them, plus what a consumer of the CMake package compiles against: the headers of the public
 # and link dependencies that terrameshConfig.cmake finds.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)

@@ -6,7 +6,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
-scripts/build.sh --target terramesh  # the CLI alone: tests and benchmarks are not needed here
+# The CLI and, where npm is available, the viewer bundle: tests and benchmarks are not needed here.
+targets=(--target terramesh)
+if command -v npm >/dev/null 2>&1; then targets+=(--target terramesh_viewer); fi
+scripts/build.sh "${targets[@]}"
 terramesh=build/apps/terramesh/terramesh
 out=out/demo
 mkdir -p "$out"
@@ -15,10 +18,23 @@ mkdir -p "$out"
 # exports (traversability.ply, Nav2 maps per level, GeoTIFF layers) are rewritten every 10.
 "$terramesh" mesh "$out/street/stream.tmstream" -o "$out/mesh" --drop-steiner \
   --robot traversability/robots/small_wheeled.yaml --export-every 10
+# A path for the robot on that map: five random start/goal pairs on its largest walkable component
+# (OMPL's BIT*, with the face-graph optimum beside it), then a path between the first pair solved.
+"$terramesh" plan "$out/mesh" --random-pairs 5 -o "$out/plan_pairs" --quiet
+read -r sx sy sz gx gy gz < <(awk -F, '$8 == "solved" { print $2, $3, $4, $5, $6, $7; exit }' \
+  "$out/plan_pairs/pairs.csv")
+"$terramesh" plan "$out/mesh" --start "$sx" "$sy" "$sz" --goal "$gx" "$gy" "$gz" -o "$out/plan" --quiet
+# Figures (matplotlib): a top view coloured by cost with the trajectory and the path, histograms.
+python3=/usr/bin/python3
+[ -x "$python3" ] || python3=python3
+"$python3" scripts/figures/traversability_figures.py "$out/mesh" --path "$out/plan/path.csv" \
+  --trajectory "$out/street/trajectory.txt" -o "$out/figures"
 echo
 echo "demo: synthetic street and its ground truth in $out/street/, the mesh and the per-keyframe"
 echo "table in $out/mesh/ (mesh.ply, mesh_open.ply, keyframes.csv, summary.txt), and the"
 echo "traversability map beside it: traversability.ply (per-face layers: MeshLab, CloudCompare),"
 echo "level_N.yaml + level_N.pgm (Nav2 map_server, trinary), level_N_cost.yaml + .png (scale mode),"
 echo "layers_level_N.tif (GeoTIFF, one band per layer), traversability_summary.txt and"
-echo "traversability_updates.csv (per-keyframe layer update times)"
+echo "traversability_updates.csv (per-keyframe layer update times); a planned path in $out/plan/"
+echo "(path.csv, path.ply, plan.txt); figures in $out/figures/."
+echo "To look at it in a browser: $terramesh view $out/mesh   (serves on 127.0.0.1, prints the URL)"

@@ -33,16 +33,15 @@ row() {
 # The worst-classified truth labels of a report: scored area of each label and its free share.
 labels() {
   awk '
-    /^label_.*_(free|lethal|unknown)_m2 / {
-      name = $1; sub(/^label_/, "", name); cls = name; sub(/_m2$/, "", cls); sub(/_[a-z]+$/, "", name)
-      sub(/^.*_/, "", cls); area[name, cls] = $2; names[name] = 1
+    /^label_[a-z]+_(free|lethal|unknown)_m2 / {
+      split($1, part, "_"); area[part[2], part[3]] = $2; names[part[2]] = 1
     }
     END {
       for (n in names) {
         total = area[n, "free"] + area[n, "lethal"] + area[n, "unknown"]
+        if (total <= 0) continue
         printf "%s %.1f m2 (free %.2f lethal %.2f unknown %.2f); ", n, total,
-          total > 0 ? area[n, "free"] / total : 0, total > 0 ? area[n, "lethal"] / total : 0,
-          total > 0 ? area[n, "unknown"] / total : 0
+          area[n, "free"] / total, area[n, "lethal"] / total, area[n, "unknown"] / total
       }
       printf "\n"
     }' "$1"

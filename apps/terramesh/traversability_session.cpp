@@ -94,7 +94,7 @@ std::optional<TraversabilitySession> TraversabilitySession::fromArgs(const ArgPa
       }
     }
     if (rotations.empty()) throw std::invalid_argument("mesh: --robot: the stream has no keyframes to estimate up from");
-    frame.up_W = traversability::estimateUpFromCameras(rotations);
+    frame.up_W = traversability::estimateUpFromCameras(rotations, stream.sensor_up_S);
     std::ostringstream text;
     text << "estimated from " << rotations.size() << " keyframe rotations";
     up_source = text.str();

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 namespace terramesh::mesher::internal {
 
@@ -17,6 +18,9 @@ inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max()
 
 /// Per-vertex data. Trivially copyable.
 struct VertexInfo {
+  /// VertexKey::value of this vertex's stable key, cached by OutsideSet::vertexKey once
+  /// `key_cached` is set (the key of a vertex never changes while it exists).
+  std::uint64_t key = 0;
   /// Index of the SLAM point in PointRegistry, or kNone for Steiner and the infinite vertex.
   std::uint32_t point = kNone;
   /// Position of this vertex in its boundary-hash bucket, kNone if not hashed.
@@ -28,7 +32,9 @@ struct VertexInfo {
   /// Number of incident cells (finite or not); kept by TriangulationEditor.
   std::uint16_t degree = 0;
   bool steiner = false;
+  bool key_cached = false;
 };
+static_assert(std::is_trivially_copyable_v<VertexInfo>);
 
 /// Flags of CellInfo::flags.
 enum CellFlag : std::uint8_t {

@@ -1,5 +1,6 @@
 #include "outside_set.h"
 
+#include <array>
 #include <cassert>
 
 namespace terramesh::mesher::internal {
@@ -126,16 +127,23 @@ void OutsideSet::remove(CellHandle cell) {
 void OutsideSet::logFacets(const CellHandle& cell, bool entering) {
   // A facet of `cell` is on the surface iff exactly one of its two cells is in O; it is wound with
   // its normal into the O side (CGAL's vertex_triple_index winds it into `cell`).
+  // Keys and hashes are taken once per vertex and shared by the three facets through it.
+  std::array<VertexKey, 4> keys;
+  std::array<std::uint64_t, 4> hashes;
+  for (int v = 0; v < 4; ++v) {
+    const auto slot = static_cast<std::size_t>(v);
+    keys[slot] = vertexKey(cell->vertex(v));
+    hashes[slot] = SurfaceLog::vertexHash(keys[slot]);
+  }
   for (int i = 0; i < 4; ++i) {
-    WoundFace inward;
-    for (int k = 0; k < 3; ++k) {
-      inward[static_cast<std::size_t>(k)] = vertexKey(cell->vertex(Delaunay::vertex_triple_index(i, k)));
-    }
+    const auto a = static_cast<std::size_t>(Delaunay::vertex_triple_index(i, 0));
+    const auto b = static_cast<std::size_t>(Delaunay::vertex_triple_index(i, 1));
+    const auto c = static_cast<std::size_t>(Delaunay::vertex_triple_index(i, 2));
+    const std::uint64_t hash = SurfaceLog::faceHash(hashes[a], hashes[b], hashes[c]);
     if (cell->neighbor(i)->info().outside()) {
-      const WoundFace into_neighbour{inward[0], inward[2], inward[1]};
-      entering ? log_->faceRemoved(into_neighbour) : log_->faceAdded(into_neighbour);
+      log_->faceEvent({keys[a], keys[c], keys[b]}, hash, !entering);  // wound into the neighbour
     } else {
-      entering ? log_->faceAdded(inward) : log_->faceRemoved(inward);
+      log_->faceEvent({keys[a], keys[b], keys[c]}, hash, entering);
     }
   }
 }

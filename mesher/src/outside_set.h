@@ -46,10 +46,14 @@ class OutsideSet {
 
   /// Stable key of a finite vertex: its point's id, or its Steiner lattice node. Requires a log
   /// attached (for the registry).
+  /// Computed once per vertex, then read from VertexInfo::key.
   VertexKey vertexKey(const VertexHandle& v) const {
-    if (v->info().point != kNone) return VertexKey::point(registry_->point(v->info().point).id);
-    const GridKey node = grid_.nodeOf(toEigen(v->point()));
-    return VertexKey::steinerNode(node.i, node.j, node.k);
+    VertexInfo& info = v->info();
+    if (!info.key_cached) {
+      info.key = computeVertexKey(v).value;
+      info.key_cached = true;
+    }
+    return {info.key, info.point == kNone};
   }
 
   /// Regularity of `v` for the current O (invariant checks).
@@ -65,6 +69,11 @@ class OutsideSet {
   bool pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding);
   void vertexGainedCell(VertexHandle v);
   void vertexLostCell(VertexHandle v);
+  VertexKey computeVertexKey(const VertexHandle& v) const {
+    if (v->info().point != kNone) return VertexKey::point(registry_->point(v->info().point).id);
+    const GridKey node = grid_.nodeOf(toEigen(v->point()));
+    return VertexKey::steinerNode(node.i, node.j, node.k);
+  }
   /// Logs the faces `cell` gains or loses by entering (or leaving) O; its flag already changed.
   void logFacets(const CellHandle& cell, bool entering);
 

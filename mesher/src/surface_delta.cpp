@@ -1,13 +1,15 @@
 #include "mesher/surface_delta.h"
 
-#include <algorithm>
+#include <utility>
 
 namespace terramesh::mesher {
 
 FaceKey FaceKey::of(VertexKey a, VertexKey b, VertexKey c) {
-  FaceKey key{{a, b, c}};
-  std::sort(key.sorted.begin(), key.sorted.end());
-  return key;
+  // Three compare-exchanges sort three keys (stable order of equal keys does not matter).
+  if (b < a) std::swap(a, b);
+  if (c < b) std::swap(b, c);
+  if (b < a) std::swap(a, b);
+  return FaceKey{{a, b, c}};
 }
 
 }  // namespace terramesh::mesher

@@ -24,8 +24,29 @@ class SurfaceLog {
  public:
   explicit SurfaceLog(std::uint64_t kept_revisions) : kept_revisions_(kept_revisions) {}
 
-  void faceAdded(const WoundFace& face) { pending_.push_back({face, true}); }
-  void faceRemoved(const WoundFace& face) { pending_.push_back({face, false}); }
+  void faceAdded(const WoundFace& face) { faceEvent(face, faceHash(face), true); }
+  void faceRemoved(const WoundFace& face) { faceEvent(face, faceHash(face), false); }
+  /// Same as faceAdded (`added`) or faceRemoved, with `hash` == faceHash(face) computed by the
+  /// caller (e.g. from vertexHash values shared by the facets of a cell).
+  void faceEvent(const WoundFace& face, std::uint64_t hash, bool added) {
+    pending_.push_back({face, hash, added});
+  }
+
+  /// Hash of one vertex key; faceHash combines three of them. O(1).
+  static std::uint64_t vertexHash(const VertexKey& v) {
+    const std::uint64_t x = (v.value ^ (v.steiner ? 0x5bd1e9955bd1e995ull : 0)) * 0x9E3779B97F4A7C15ull;
+    return x ^ (x >> 29);
+  }
+  /// Hash of a face from its vertices' vertexHash values, independent of their order. O(1).
+  static std::uint64_t faceHash(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+    std::uint64_t h = (a + b + c) ^ ((a ^ b ^ c) * 0xBF58476D1CE4E5B9ull);
+    h ^= h >> 31;
+    h *= 0x94D049BB133111EBull;
+    return h ^ (h >> 32);
+  }
+  static std::uint64_t faceHash(const WoundFace& face) {
+    return faceHash(vertexHash(face[0]), vertexHash(face[1]), vertexHash(face[2]));
+  }
   /// The observation of the faces around `v` may have changed.
   void touch(const VertexKey& v) { pending_touched_.push_back(v); }
   /// The vertex of `v` was removed from the triangulation (it may come back elsewhere).
@@ -55,7 +76,14 @@ class SurfaceLog {
  private:
   struct Event {
     WoundFace face;
+    std::uint64_t hash;  ///< faceHash(face): equal for every winding and rotation
     bool added;
+  };
+  /// First and last pending event of one face (commit's open-addressing table).
+  struct Span {
+    std::uint64_t hash;
+    std::uint32_t first;
+    std::uint32_t last;
   };
   struct Record {
     std::vector<WoundFace> removed;  ///< winding it had before
@@ -70,6 +98,11 @@ class SurfaceLog {
   std::deque<Record> records_;  ///< records_.back() leads to revision_
   std::size_t bytes_ = 0;
   std::vector<Event> pending_;
+  std::vector<Span> spans_;  ///< scratch of commit, kept for its capacity
+  std::vector<std::uint32_t> key_slots_;  ///< scratch of commit's deduplication of vertex keys
+  std::vector<VertexKey> unique_keys_;    ///< scratch of the same
+  /// Sorts `keys` and drops repeats, hashing out the repeats first (most keys repeat).
+  void sortUniqueHashed(std::vector<VertexKey>& keys);
   std::vector<VertexKey> pending_touched_;
   std::vector<VertexKey> pending_moved_;
 };

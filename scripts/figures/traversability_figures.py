@@ -54,6 +54,8 @@ def parse_args(argv):
                         help="x,y,z of the paths: mesh frame like the PLY (default), or plan metres")
     parser.add_argument("--trajectory", metavar="FILE", help="camera trajectory, KITTI pose format")
     parser.add_argument("-o", "--output-dir", metavar="OUT", help="where the PNGs go (default: MAP/plots)")
+    parser.add_argument("--show-steiner", action="store_true",
+                        help="also draw the faces through Steiner vertices (the lid that closes the map)")
     return parser.parse_args(argv)
 
 
@@ -155,6 +157,18 @@ def faces_area_m2(xyz_m, faces):
         for k in range(1, len(polygon) - 1):
             areas[i] += 0.5 * np.linalg.norm(np.cross(p[k] - p[0], p[k + 1] - p[0]))
     return areas
+
+
+def top_view_faces(vertices, faces, layers, up, show_steiner):
+    """Mask of the faces drawn in the top view: upward-facing, and measured unless show_steiner."""
+    keep = np.ones(len(layers["cost"]), dtype=bool)
+    if not show_steiner and "steiner" in layers:
+        keep &= layers["steiner"] == 0
+    if isinstance(faces, np.ndarray):
+        p = vertices[faces]
+        normals = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+        keep &= normals @ up > 0
+    return keep
 
 
 def top_view(plt, vertices, faces, layers, frame, paths, trajectory, title_counts):
@@ -264,7 +278,12 @@ def main(argv=None):
     output_dir = args.output_dir or os.path.join(args.map_dir, "plots")
     plt = common.pyplot()
     written = []
-    figure = top_view(plt, vertices, faces, layers, frame, paths, trajectory, counts)
+    # The top view shows the ground: faces that face up and were measured. The closed mesh's lid
+    # (Steiner faces) and the undersides of things would otherwise hide it.
+    shown = top_view_faces(vertices, faces, layers, up, args.show_steiner)
+    view_faces = faces[shown] if isinstance(faces, np.ndarray) else [f for f, keep in zip(faces, shown) if keep]
+    view_layers = {name: values[shown] for name, values in layers.items()}
+    figure = top_view(plt, vertices, view_faces, view_layers, frame, paths, trajectory, counts)
     written.append(common.save_png(figure, os.path.join(output_dir, "traversability_top.png")))
     plt.close(figure)
     figure = histograms(plt, layers, areas)

@@ -165,6 +165,23 @@ TEST(MapFrameTest, UpFromZUpSceneCamerasIsPlusZ) {
   EXPECT_GT(up.z(), 0.8);
 }
 
+TEST(MapFrameTest, UpFromKittiVelodyneIsMinusY) {
+  // A Velodyne frame (x forward, y left, z up) mounted level on a KITTI car: in the y-down world
+  // its z axis points along -y. With the camera's axis (-y) the estimate would be wrong.
+  Eigen::Matrix3d cam0_from_velodyne;
+  cam0_from_velodyne << 0, -1, 0,  //
+      0, 0, -1,                     //
+      1, 0, 0;
+  std::vector<Eigen::Matrix3d> rotations;
+  for (double yaw : {0.0, 0.5, -1.4}) {
+    rotations.push_back(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix() * cam0_from_velodyne);
+  }
+  const Eigen::Vector3d up = estimateUpFromCameras(rotations, Eigen::Vector3d::UnitZ());
+  EXPECT_NEAR(up.y(), -1.0, 1e-9);
+  EXPECT_LT(std::abs(estimateUpFromCameras(rotations).y()), 0.5);
+  EXPECT_THROW(estimateUpFromCameras(rotations, Eigen::Vector3d::Zero()), std::invalid_argument);
+}
+
 TEST(MapFrameTest, BadInputsThrow) {
   EXPECT_THROW(estimateUpFromCameras({}), std::invalid_argument);
   const Eigen::Matrix3d flip = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();

@@ -89,10 +89,15 @@ void MapFrame::validate() const {
   if (!problems.empty()) throw std::invalid_argument("invalid map frame:" + problems);
 }
 
-Eigen::Vector3d estimateUpFromCameras(const std::vector<Eigen::Matrix3d>& rotations_W_C) {
+Eigen::Vector3d estimateUpFromCameras(const std::vector<Eigen::Matrix3d>& rotations_W_C,
+                                      const Eigen::Vector3d& up_C) {
   if (rotations_W_C.empty()) throw std::invalid_argument("estimateUpFromCameras: no camera rotations");
+  if (!up_C.allFinite() || up_C.norm() == 0.0) {
+    throw std::invalid_argument("estimateUpFromCameras: the sensor's up axis is not a finite non-zero vector");
+  }
+  const Eigen::Vector3d axis = up_C.normalized();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const Eigen::Matrix3d& R : rotations_W_C) sum -= R.col(1);  // image up = -y of the camera
+  for (const Eigen::Matrix3d& R : rotations_W_C) sum += R * axis;
   if (!sum.allFinite() || sum.norm() < 1e-6 * static_cast<double>(rotations_W_C.size())) {
     throw std::invalid_argument("estimateUpFromCameras: the cameras' up axes cancel out");
   }

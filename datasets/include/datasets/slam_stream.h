@@ -42,6 +42,9 @@ struct SlamStream {
   /// fixed distance in metres: structure-from-motion models (COLMAP, OpenMVG, Bundler) have an
   /// arbitrary scale, so that "40 m" means nothing in their units.
   bool recommend_auto_max_distance = false;
+  /// The axis of a keyframe's sensor frame that points up when the sensor is level: -y for
+  /// cameras (OpenCV/KITTI convention, x right, y down), +z for a Velodyne scanner (x forward).
+  Eigen::Vector3d sensor_up_S = -Eigen::Vector3d::UnitY();
   /// Free text: where the stream came from.
   std::string description;
   /// The image (or scan) file of each keyframe, when the source names one (COLMAP, OpenMVG,

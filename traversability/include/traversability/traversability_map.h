@@ -21,10 +21,12 @@ struct MapFrame {
   void validate() const;
 };
 
-/// Estimates "up" from camera orientations: the mean of the cameras' image-up axes (-y of an
-/// OpenCV/KITTI camera, x right, y down, z forward), normalised.
-/// @throw std::invalid_argument if there are no rotations or they cancel out.
-Eigen::Vector3d estimateUpFromCameras(const std::vector<Eigen::Matrix3d>& rotations_W_C);
+/// Estimates "up" from sensor orientations: the mean of the sensors' up axes, normalised. `up_C` is
+/// the axis of the sensor frame that points up when the sensor is level: -y for an OpenCV/KITTI
+/// camera (x right, y down, z forward; the default), +z for a Velodyne (x forward, z up).
+/// @throw std::invalid_argument if there are no rotations, `up_C` is zero or they cancel out.
+Eigen::Vector3d estimateUpFromCameras(const std::vector<Eigen::Matrix3d>& rotations_W_C,
+                                      const Eigen::Vector3d& up_C = -Eigen::Vector3d::UnitY());
 
 /// What one TraversabilityMap update did (returned, never logged).
 struct LayerUpdateStats {
