@@ -26,6 +26,10 @@ while [ "$#" -gt 0 ]; do
   esac
 done
 launcher=()
-if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+if command -v ccache >/dev/null 2>&1; then
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  # Paths relative to the checkout: clones in other folders share the compiler cache.
+  export CCACHE_BASEDIR="$PWD"
+fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "${configure[@]}" >/dev/null
 cmake --build build -j "$jobs" "${targets[@]}"
