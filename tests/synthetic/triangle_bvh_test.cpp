@@ -155,7 +155,7 @@ TEST(TriangleBvhTest, ClosestPointMatchesBruteForce) {
     EXPECT_NEAR(closest.distance, bruteClosestDistance(mesh, query), 1e-9) << "query " << i;
     EXPECT_NEAR((closest.point - query).norm(), closest.distance, 1e-12);
     const auto& face = mesh.faces[closest.face];
-    const TriangleMesh single{{mesh.vertices[face[0]], mesh.vertices[face[1]], mesh.vertices[face[2]]}, {{0, 1, 2}}, {}};
+    const TriangleMesh single{{mesh.vertices[face[0]], mesh.vertices[face[1]], mesh.vertices[face[2]]}, {{0, 1, 2}}, {}, {}};
     EXPECT_NEAR(bruteClosestDistance(single, query), closest.distance, 1e-9) << "the reported face holds the point";
   }
 }
