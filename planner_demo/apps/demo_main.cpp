@@ -140,32 +140,32 @@ int run(const Options& options) {
     csv << i << ',' << type << ',' << planning::toString(status) << ',' << length << ',' << cost << ',' << time << ','
         << (check.valid ? 1 : 0) << ",\"" << check.reason << "\"\n";
   };
+  // Checks a path against the truth (only when solved), tallies it and writes its CSV row.
+  auto record = [&](std::size_t i, const char* type, Tally& tally, planning::PlanStatus status, bool solved,
+                    const std::vector<Eigen::Vector3d>& path, double length, double cost, double time) {
+    const planning::demo::TruthCheck check =
+        solved ? planning::demo::checkAgainstTruth(truth, bvh, path, map.map.up_W, map.map.metres_per_unit,
+                                                   map.profile.max_slope_deg)
+               : planning::demo::TruthCheck{};
+    tally.add(solved, length, cost, time, check.valid);
+    row(i, type, status, length, cost, time, check);
+  };
+  auto statesOf = [](const planning::PlanResult& result) {
+    std::vector<Eigen::Vector3d> points;
+    for (const planning::PathState& s : result.states) points.push_back(s.location.point_W);
+    return points;
+  };
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const Eigen::Vector3d a = pairs[i].first.point_W, b = pairs[i].second.point_W;
     const planning::PlanResult on_mesh = planning::planOnSurface(graph, a, b, config);
-    std::vector<Eigen::Vector3d> mesh_path;
-    for (const planning::PathState& s : on_mesh.states) mesh_path.push_back(s.location.point_W);
-    const planning::demo::TruthCheck mesh_check =
-        on_mesh.solved() ? planning::demo::checkAgainstTruth(truth, bvh, mesh_path, map.map.up_W, map.map.metres_per_unit, map.profile.max_slope_deg)
-                         : planning::demo::TruthCheck{};
-    mesh.add(on_mesh.solved(), on_mesh.length_m, on_mesh.cost, on_mesh.planning_time_s, mesh_check.valid);
-    row(i, "mesh", on_mesh.status, on_mesh.length_m, on_mesh.cost, on_mesh.planning_time_s, mesh_check);
-
+    record(i, "mesh", mesh, on_mesh.status, on_mesh.solved(), statesOf(on_mesh), on_mesh.length_m, on_mesh.cost,
+           on_mesh.planning_time_s);
     const planning::PlanResult on_graph = planning::planOnFaceGraph(graph, a, b, config);
-    std::vector<Eigen::Vector3d> graph_path;
-    for (const planning::PathState& s : on_graph.states) graph_path.push_back(s.location.point_W);
-    const planning::demo::TruthCheck graph_check =
-        on_graph.solved() ? planning::demo::checkAgainstTruth(truth, bvh, graph_path, map.map.up_W, map.map.metres_per_unit, map.profile.max_slope_deg)
-                          : planning::demo::TruthCheck{};
-    graph_tally.add(on_graph.solved(), on_graph.length_m, on_graph.cost, on_graph.planning_time_s, graph_check.valid);
-    row(i, "mesh_graph", on_graph.status, on_graph.length_m, on_graph.cost, on_graph.planning_time_s, graph_check);
-
+    record(i, "mesh_graph", graph_tally, on_graph.status, on_graph.solved(), statesOf(on_graph), on_graph.length_m,
+           on_graph.cost, on_graph.planning_time_s);
     const planning::GridPlanResult on_grid = planning::planOnGrid(grid, a, b, config, robot.cost_weight);
-    const planning::demo::TruthCheck grid_check =
-        on_grid.solved() ? planning::demo::checkAgainstTruth(truth, bvh, on_grid.points_W, map.map.up_W, map.map.metres_per_unit, map.profile.max_slope_deg)
-                         : planning::demo::TruthCheck{};
-    voxels.add(on_grid.solved(), on_grid.length_m, on_grid.cost, on_grid.planning_time_s, grid_check.valid);
-    row(i, "octomap", on_grid.status, on_grid.length_m, on_grid.cost, on_grid.planning_time_s, grid_check);
+    record(i, "octomap", voxels, on_grid.status, on_grid.solved(), on_grid.points_W, on_grid.length_m, on_grid.cost,
+           on_grid.planning_time_s);
   }
   writeFileAtomically(options.out / "pairs.csv", csv.str());
 
