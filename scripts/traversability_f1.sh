@@ -5,13 +5,13 @@
 # generator's labelled ground truth (`terramesh traverse-eval --gt-mesh`) and prints a markdown
 # table; then the road under the camera path on real KITTI 00 (ORB-SLAM, 16.589 m per unit).
 # Expects a Release build in build/ (or TERRAMESH_BUILD=dir) and ../shared/ beside the
-# repository. Writes under out/traversability_f1/; with TERRAMESH_REUSE=1, scenes and maps
-# already there are not made again (only scored).
+# repository. Writes under out/traversability_f1/ (or TERRAMESH_F1_OUT); with TERRAMESH_REUSE=1,
+# scenes and maps already there are not made again (only scored).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 terramesh=${TERRAMESH_BUILD:-build}/apps/terramesh/terramesh
 shared=${TERRAMESH_SHARED_DIR:-../shared}
-out=out/traversability_f1
+out=${TERRAMESH_F1_OUT:-out/traversability_f1}
 mkdir -p "$out"
 robots=(traversability/robots/*.yaml)
 if [[ ! -e "${robots[0]}" ]]; then

@@ -33,36 +33,33 @@ std::vector<mesher::MesherMode> parseModes(const std::string& list) {
 }  // namespace
 
 int runBench(const std::vector<std::string>& args) {
-  ArgParser parser("bench");
-  parser.positional("STREAM", "SLAM stream to run (any format terramesh mesh reads)")
-      .option("--output", "DIR", "where the CSVs and the report go")
-      .alias("-o", "--output")
-      .option("--modes", "LIST", "comma-separated modes; the first is compared with the others",
-              "proposed,romanoni15,litvinov13")
-      .option("--camera-frames", "N", "camera frames the stream covers, for frame rates", "0")
-      .option("--camera-rate-hz", "HZ", "camera frame rate, for the real-time factor", "10")
-      .option("--max-keyframes", "N", "stop each run after N keyframes (0: all)", "0");
-  declareInputOptions(parser);
-  declareMesherOptions(parser);
-  parser.parse(args);
-  if (parser.helpRequested()) {
-    std::cout << parser.usage();
-    return kExitOk;
-  }
-  if (!parser.has("--output")) throw UsageError("bench: -o/--output DIR is required");
-  const std::vector<mesher::MesherMode> modes = parseModes(parser.get("--modes"));
-  const long camera_frames = parser.getInt("--camera-frames");
-  const long max_keyframes = parser.getInt("--max-keyframes");
-  const double rate = parser.getDouble("--camera-rate-hz");
+  CLI::App app{"run modes on one stream; print the paper's Tables II and IV", "terramesh bench"};
+  app.option_defaults()->always_capture_default();
+  std::string stream_file, output_dir, mode_list = "proposed,romanoni15,litvinov13";
+  long camera_frames = 0, max_keyframes = 0;
+  double rate = 10;
+  InputOptions input_options;
+  MesherOptions mesher_options;
+  app.add_option("STREAM", stream_file, "SLAM stream to run (any format terramesh mesh reads)")->required();
+  app.add_option("-o,--output", output_dir, "where the CSVs and the report go")->option_text("DIR");
+  app.add_option("--modes", mode_list, "comma-separated modes; the first is compared with the others");
+  app.add_option("--camera-frames", camera_frames, "camera frames the stream covers, for frame rates");
+  app.add_option("--camera-rate-hz", rate, "camera frame rate, for the real-time factor");
+  app.add_option("--max-keyframes", max_keyframes, "stop each run after N keyframes (0: all)");
+  addInputOptions(app, input_options);
+  addMesherOptions(app, mesher_options);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  if (output_dir.empty()) throw UsageError("bench: -o/--output DIR is required");
+  const std::vector<mesher::MesherMode> modes = parseModes(mode_list);
   if (camera_frames < 0 || max_keyframes < 0 || !(rate > 0)) {
     throw UsageError("bench: --camera-frames and --max-keyframes must be >= 0, --camera-rate-hz > 0");
   }
 
-  const std::filesystem::path input = parser.positionalValue("STREAM");
-  const datasets::SlamStream stream = datasets::readAnyStream(input, streamReadOptionsFromArgs(parser));
+  const std::filesystem::path input = stream_file;
+  const datasets::SlamStream stream = datasets::readAnyStream(input, streamReadOptionsFrom(input_options));
   std::vector<mesher::MesherConfig> configs;
-  for (mesher::MesherMode mode : modes) configs.push_back(mesherConfigFromArgs(parser, mode, stream));
-  const std::filesystem::path output = parser.get("--output");
+  for (mesher::MesherMode mode : modes) configs.push_back(mesherConfigFrom(mesher_options, mode, stream));
+  const std::filesystem::path output = output_dir;
   std::filesystem::create_directories(output);
 
   BenchContext context;
@@ -72,8 +69,8 @@ int runBench(const std::vector<std::string>& args) {
   context.camera_rate_hz = rate;
   std::vector<BenchRun> runs;
   for (const mesher::MesherConfig& config : configs) {
-    std::cerr << "bench: running " << mesher::toString(config.mode) << "...\n";
-    runs.push_back(runModeIsolated(stream, config, output / mesher::toString(config.mode),
+    std::cerr << "bench: running " << mesher::toString(config.mode()) << "...\n";
+    runs.push_back(runModeIsolated(stream, config, output / mesher::toString(config.mode()),
                                    max_keyframes > 0 ? static_cast<std::size_t>(max_keyframes)
                                                      : static_cast<std::size_t>(-1)));
   }

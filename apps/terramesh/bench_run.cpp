@@ -101,7 +101,7 @@ BenchRun runModeIsolated(const datasets::SlamStream& stream, const mesher::Meshe
     try {
       runInChild(stream, config, dir, max_keyframes);
     } catch (const std::exception& error) {
-      std::fprintf(stderr, "terramesh: bench (%s): %s\n", mesher::toString(config.mode), error.what());
+      std::fprintf(stderr, "terramesh: bench (%s): %s\n", mesher::toString(config.mode()), error.what());
       code = 1;
     }
     std::fflush(nullptr);
@@ -110,11 +110,11 @@ BenchRun runModeIsolated(const datasets::SlamStream& stream, const mesher::Meshe
   int status = 0;
   struct rusage usage {};
   if (::wait4(child, &status, 0, &usage) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw std::runtime_error(std::string("bench: the run of mode ") + mesher::toString(config.mode) +
+    throw std::runtime_error(std::string("bench: the run of mode ") + mesher::toString(config.mode()) +
                              " failed");
   }
   BenchRun run;
-  run.mode = mesher::toString(config.mode);
+  run.mode = mesher::toString(config.mode());
   run.peak_rss_kib = usage.ru_maxrss;
   run.keyframes = readKeyframeRows(dir / "keyframes.csv");
   std::ifstream summary(dir / "summary.txt");

@@ -4,134 +4,47 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
 #include <sstream>
 
 namespace terramesh::cli {
 
-ArgParser& ArgParser::option(const std::string& name, const std::string& value_name,
-                             const std::string& help, std::optional<std::string> default_value) {
-  specs_[name] = Spec{value_name, help, std::move(default_value), false};
-  spec_order_.push_back(name);
-  return *this;
+bool parseCommandLine(CLI::App& app, const std::vector<std::string>& args) {
+  // As before CLI11: an option given twice keeps its last value (scripts append overrides).
+  for (CLI::Option* option : app.get_options()) option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return false;
+  } catch (const CLI::ParseError& error) {
+    std::string command = app.get_name();
+    if (command.rfind("terramesh ", 0) == 0) command.erase(0, 10);
+    throw UsageError(command + ": " + error.what());
+  }
+  return true;
 }
 
-ArgParser& ArgParser::flag(const std::string& name, const std::string& help) {
-  specs_[name] = Spec{"", help, std::nullopt, true};
-  spec_order_.push_back(name);
-  return *this;
-}
+namespace {
 
-ArgParser& ArgParser::positional(const std::string& name, const std::string& help) {
-  positional_specs_.emplace_back(name, help);
-  return *this;
-}
-
-ArgParser& ArgParser::alias(const std::string& short_name, const std::string& long_name) {
-  aliases_[short_name] = long_name;
-  return *this;
-}
-
-void ArgParser::parse(const std::vector<std::string>& args) {
-  std::size_t next_positional = 0;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string arg = args[i];
-    if (arg == "-h" || arg == "--help") {
-      help_ = true;
-      return;
-    }
-    if (const auto it = aliases_.find(arg); it != aliases_.end()) arg = it->second;
-    if (arg.size() > 2 && arg.compare(0, 2, "--") == 0) {
-      std::string name = arg;
-      std::optional<std::string> inline_value;
-      if (const auto eq = arg.find('='); eq != std::string::npos) {
-        name = arg.substr(0, eq);
-        inline_value = arg.substr(eq + 1);
-      }
-      const auto spec = specs_.find(name);
-      if (spec == specs_.end()) throw UsageError(command_ + ": unknown option " + name);
-      if (spec->second.is_flag) {
-        if (inline_value) throw UsageError(command_ + ": " + name + " takes no value");
-        values_[name] = "1";
-      } else if (inline_value) {
-        values_[name] = *inline_value;
-      } else {
-        if (i + 1 >= args.size()) {
-          throw UsageError(command_ + ": " + name + " needs a value (" + spec->second.value_name + ")");
+CLI::Validator numberAbove(double bound, bool inclusive, const std::string& name) {
+  return CLI::Validator(
+      [bound, inclusive](std::string& text) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
+          return "expects a number, got \"" + text + "\"";
         }
-        values_[name] = args[++i];
-      }
-      continue;
-    }
-    if (next_positional >= positional_specs_.size()) {
-      throw UsageError(command_ + ": unexpected argument \"" + arg + "\"");
-    }
-    positionals_[positional_specs_[next_positional++].first] = arg;
-  }
-  if (next_positional < positional_specs_.size()) {
-    throw UsageError(command_ + ": missing " + positional_specs_[next_positional].first);
-  }
+        const bool ok = inclusive ? value >= bound : value > bound;
+        return ok ? std::string() : std::string("must be ") + (inclusive ? ">= " : "> ") + "0, got " + text;
+      },
+      name);
 }
 
-bool ArgParser::has(const std::string& name) const {
-  if (values_.count(name)) return true;
-  const auto spec = specs_.find(name);
-  return spec != specs_.end() && spec->second.default_value.has_value();
-}
+}  // namespace
 
-std::string ArgParser::get(const std::string& name) const {
-  if (const auto it = values_.find(name); it != values_.end()) return it->second;
-  const auto spec = specs_.find(name);
-  if (spec != specs_.end() && spec->second.default_value) return *spec->second.default_value;
-  throw UsageError(command_ + ": missing required option " + name);
-}
-
-double ArgParser::getDouble(const std::string& name) const {
-  const std::string text = get(name);
-  char* end = nullptr;
-  errno = 0;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || errno != 0 || !std::isfinite(value)) {
-    throw UsageError(command_ + ": " + name + " expects a number, got \"" + text + "\"");
-  }
-  return value;
-}
-
-long ArgParser::getInt(const std::string& name) const {
-  const std::string text = get(name);
-  char* end = nullptr;
-  errno = 0;
-  const long value = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno != 0) {
-    throw UsageError(command_ + ": " + name + " expects an integer, got \"" + text + "\"");
-  }
-  return value;
-}
-
-bool ArgParser::flagSet(const std::string& name) const { return values_.count(name) != 0; }
-
-const std::string& ArgParser::positionalValue(const std::string& name) const {
-  return positionals_.at(name);
-}
-
-std::string ArgParser::usage() const {
-  std::ostringstream out;
-  out << "usage: terramesh " << command_;
-  for (const auto& [name, help] : positional_specs_) out << ' ' << name;
-  out << " [options]\n";
-  for (const auto& [name, help] : positional_specs_) out << "  " << name << "\n      " << help << '\n';
-  for (const std::string& name : spec_order_) {
-    const Spec& spec = specs_.at(name);
-    out << "  " << name;
-    for (const auto& [short_name, long_name] : aliases_) {
-      if (long_name == name) out << ", " << short_name;
-    }
-    if (!spec.is_flag) out << ' ' << spec.value_name;
-    out << "\n      " << spec.help;
-    if (spec.default_value) out << " (default " << *spec.default_value << ")";
-    out << '\n';
-  }
-  return out.str();
-}
+CLI::Validator nonNegativeNumber() { return numberAbove(0.0, true, "NONNEGATIVE"); }
+CLI::Validator positiveNumber() { return numberAbove(0.0, false, "POSITIVE"); }
 
 std::vector<std::optional<std::size_t>> parseColonIntegers(const std::string& text, const std::string& option,
                                                           const std::string& form, std::size_t max_fields) {

@@ -21,5 +21,7 @@ int runTraverse(const std::vector<std::string>& args);
 int runTraverseEval(const std::vector<std::string>& args);
 int runView(const std::vector<std::string>& args);
 int runPlan(const std::vector<std::string>& args);
+int runCompare(const std::vector<std::string>& args);
+int runConvert(const std::vector<std::string>& args);
 
 }  // namespace terramesh::cli

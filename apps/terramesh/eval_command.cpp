@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "cli_args.h"
@@ -23,38 +24,55 @@ using datasets::DepthComparisonConfig;
 using datasets::DepthErrors;
 using datasets::DistanceStats;
 
-void declareOptions(ArgParser& parser) {
-  parser.positional("MESH", "the mesh to evaluate (PLY, OBJ or OFF; its `steiner` flags are used when present)")
-      .option("--gt-mesh", "FILE", "ground truth: a surface mesh (e.g. ground_truth.ply of terramesh generate)")
-      .option("--views", "FILE", "with --gt-mesh: camera poses to render depth from (KITTI format, e.g. trajectory.txt)")
-      .option("--gt-lidar", "DIR", "ground truth: a KITTI odometry sequence (velodyne/*.bin, calib.txt)")
-      .option("--poses", "FILE", "with --gt-lidar: its KITTI poses (cam0-to-world)")
-      .option("--frames", "A:B", "with --gt-lidar: scans of frames A to B (inclusive)", "0:10")
-      .option("--steiner-grid-step", "S",
-              "mark as Steiner the vertices whose coordinates are all multiples of S (mesh units, before "
-              "--sim3): for meshes without `steiner` flags, such as the authors' reference .off files")
-      .option("--sim3", "FILE", "map MESH into the ground truth's frame by x' = s R x + t (s, R, t lines)")
-      .option("--stride-px", "N", "with --gt-mesh: render every N-th pixel in each direction", "8")
-      .option("--view-step", "N", "with --gt-mesh: use every N-th view", "1")
-      .option("--max-depth-m", "D", "ground truth beyond D metres from the sensor is not used", "40")
-      .option("--coverage-m", "E", "a ground-truth ray is covered when the mesh depth is within E", "0.5")
-      .option("--samples", "N", "surface samples each way for accuracy and completeness", "200000")
-      .option("--match-radius-m", "R", "with --gt-lidar: a mesh sample with no return within R is unmatched", "2")
-      .option("--seed", "N", "seed of the surface sampling", "1")
-      .option("--report", "FILE", "also write the report to FILE (atomically)")
-      .flag("--quiet", "print nothing but errors");
-}
+/// The parsed command line.
+struct EvalOptions {
+  std::string mesh;
+  std::optional<std::string> gt_mesh, views, gt_lidar, poses, sim3, report;
+  std::string frames = "0:10";
+  std::optional<double> steiner_grid_step;
+  std::size_t stride_px = 8;
+  std::size_t view_step = 1;
+  double max_depth_m = 40;
+  double coverage_m = 0.5;
+  std::size_t samples = 200000;
+  double match_radius_m = 2;
+  std::uint64_t seed = 1;
+  bool quiet = false;
+};
 
-std::size_t positiveCount(const ArgParser& parser, const std::string& name) {
-  const long value = parser.getInt(name);
-  if (value < 1) throw UsageError("eval: " + name + " must be >= 1");
-  return static_cast<std::size_t>(value);
-}
-
-double positiveReal(const ArgParser& parser, const std::string& name) {
-  const double value = parser.getDouble(name);
-  if (!(value > 0)) throw UsageError("eval: " + name + " must be > 0");
-  return value;
+void declareOptions(CLI::App& app, EvalOptions& o) {
+  const auto positive = positiveNumber();
+  app.add_option("MESH", o.mesh, "the mesh to evaluate (PLY, OBJ or OFF; its `steiner` flags are used when present)")
+      ->required();
+  app.add_option("--gt-mesh", o.gt_mesh, "ground truth: a surface mesh (e.g. ground_truth.ply of terramesh generate)")
+      ->option_text("FILE");
+  app.add_option("--views", o.views,
+                 "with --gt-mesh: camera poses to render depth from (KITTI format, e.g. trajectory.txt)")
+      ->option_text("FILE");
+  app.add_option("--gt-lidar", o.gt_lidar, "ground truth: a KITTI odometry sequence (velodyne/*.bin, calib.txt)")
+      ->option_text("DIR");
+  app.add_option("--poses", o.poses, "with --gt-lidar: its KITTI poses (cam0-to-world)")->option_text("FILE");
+  app.add_option("--frames", o.frames, "with --gt-lidar: scans of frames A to B (inclusive)")->option_text("A:B");
+  app.add_option("--steiner-grid-step", o.steiner_grid_step,
+                 "mark as Steiner the vertices whose coordinates are all multiples of S (mesh units, before "
+                 "--sim3): for meshes without `steiner` flags, such as the authors' reference .off files")
+      ->option_text("S")
+      ->check(positive);
+  app.add_option("--sim3", o.sim3, "map MESH into the ground truth's frame by x' = s R x + t (s, R, t lines)")
+      ->option_text("FILE");
+  app.add_option("--stride-px", o.stride_px, "with --gt-mesh: render every N-th pixel in each direction")->check(positive);
+  app.add_option("--view-step", o.view_step, "with --gt-mesh: use every N-th view")->check(positive);
+  app.add_option("--max-depth-m", o.max_depth_m, "ground truth beyond D metres from the sensor is not used")
+      ->check(positive);
+  app.add_option("--coverage-m", o.coverage_m, "a ground-truth ray is covered when the mesh depth is within E")
+      ->check(positive);
+  app.add_option("--samples", o.samples, "surface samples each way for accuracy and completeness")->check(positive);
+  app.add_option("--match-radius-m", o.match_radius_m,
+                 "with --gt-lidar: a mesh sample with no return within R is unmatched")
+      ->check(positive);
+  app.add_option("--seed", o.seed, "seed of the surface sampling")->check(nonNegativeNumber());
+  app.add_option("--report", o.report, "also write the report to FILE (atomically)")->option_text("FILE");
+  app.add_flag("--quiet", o.quiet, "print nothing but errors");
 }
 
 /// "A:B" -> {A, B}, inclusive.
@@ -121,40 +139,39 @@ std::vector<datasets::EvaluationView> readViews(const std::filesystem::path& pat
 }  // namespace
 
 int runEval(const std::vector<std::string>& args) {
-  ArgParser parser("eval");
-  declareOptions(parser);
-  parser.parse(args);
-  if (parser.helpRequested()) {
-    std::cout << parser.usage()
-              << "\nDepth: every ground-truth ray (a rendered pixel of --gt-mesh from each view, or a LiDAR "
+  CLI::App app{"mesh accuracy against a ground-truth mesh or KITTI LiDAR", "terramesh eval"};
+  app.option_defaults()->always_capture_default();
+  app.footer(
+      "Depth: every ground-truth ray (a rendered pixel of --gt-mesh from each view, or a LiDAR "
                  "return seen by cam0, from the sensor) is cast into MESH; errors are mesh depth minus true "
                  "depth over the rays that hit it, coverage the fraction of all rays within --coverage-m.\n"
                  "Accuracy: samples of MESH's measured faces (none touching a Steiner vertex) to the truth "
                  "(the surface, or the nearest LiDAR return; with LiDAR only samples a scan could have "
-                 "measured). Completeness: ground-truth ray ends to MESH's measured faces.\n";
-    return kExitOk;
-  }
-  const bool lidar = parser.has("--gt-lidar");
-  if (lidar == parser.has("--gt-mesh")) throw UsageError("eval: give exactly one of --gt-mesh and --gt-lidar");
-  if (!lidar && !parser.has("--views")) throw UsageError("eval: --gt-mesh needs --views FILE");
-  if (lidar && !parser.has("--poses")) throw UsageError("eval: --gt-lidar needs --poses FILE");
-  if (!lidar && parser.has("--poses")) throw UsageError("eval: --poses goes with --gt-lidar (use --views)");
+                 "measured). Completeness: ground-truth ray ends to MESH's measured faces.");
+  EvalOptions options;
+  declareOptions(app, options);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  const bool lidar = options.gt_lidar.has_value();
+  if (lidar == options.gt_mesh.has_value()) throw UsageError("eval: give exactly one of --gt-mesh and --gt-lidar");
+  if (!lidar && !options.views) throw UsageError("eval: --gt-mesh needs --views FILE");
+  if (lidar && !options.poses) throw UsageError("eval: --gt-lidar needs --poses FILE");
+  if (!lidar && options.poses) throw UsageError("eval: --poses goes with --gt-lidar (use --views)");
 
   DepthComparisonConfig config;
-  config.stride_px = static_cast<int>(positiveCount(parser, "--stride-px"));
-  config.max_depth_m = positiveReal(parser, "--max-depth-m");
-  config.coverage_threshold_m = positiveReal(parser, "--coverage-m");
-  const std::size_t sample_count = positiveCount(parser, "--samples");
-  const double match_radius_m = positiveReal(parser, "--match-radius-m");
-  const auto seed = static_cast<std::uint64_t>(parser.getInt("--seed"));
+  config.stride_px = static_cast<int>(options.stride_px);
+  config.max_depth_m = options.max_depth_m;
+  config.coverage_threshold_m = options.coverage_m;
+  const std::size_t sample_count = options.samples;
+  const double match_radius_m = options.match_radius_m;
+  const std::uint64_t seed = options.seed;
   const datasets::PinholeCamera camera;
 
   // The mesh, in the ground truth's frame.
-  const std::filesystem::path mesh_path = parser.positionalValue("MESH");
+  const std::filesystem::path mesh_path = options.mesh;
   mesher::TriangleMesh mesh = mesher::readMesh(mesh_path);
   if (mesh.faces.empty()) throw InputError(mesh_path.string(), "faces", "the mesh has no faces");
-  if (parser.has("--steiner-grid-step")) markGridVertices(mesh, positiveReal(parser, "--steiner-grid-step"));
-  if (parser.has("--sim3")) mesh = datasets::readSimilarityTransform(parser.get("--sim3")).apply(mesh);
+  if (options.steiner_grid_step) markGridVertices(mesh, *options.steiner_grid_step);
+  if (options.sim3) mesh = datasets::readSimilarityTransform(*options.sim3).apply(mesh);
   const bool flagged = mesh.is_steiner.size() == mesh.vertices.size();
   const mesher::TriangleMesh measured = flagged ? mesher::dropSteinerFaces(mesh) : mesh;
   const datasets::TriangleBvh mesh_bvh(mesh);
@@ -173,10 +190,10 @@ int runEval(const std::vector<std::string>& args) {
   std::vector<datasets::DepthRay> truth_rays;
   DistanceStats accuracy;
   if (lidar) {
-    datasets::LidarTruthOptions options;
-    options.poses_path = parser.get("--poses");
-    std::tie(options.first_frame, options.last_frame) = parseInclusiveRange(parser.get("--frames"));
-    datasets::LidarTruth truth = datasets::readLidarTruth(parser.get("--gt-lidar"), options, camera, config);
+    datasets::LidarTruthOptions lidar_options;
+    lidar_options.poses_path = *options.poses;
+    std::tie(lidar_options.first_frame, lidar_options.last_frame) = parseInclusiveRange(options.frames);
+    datasets::LidarTruth truth = datasets::readLidarTruth(*options.gt_lidar, lidar_options, camera, config);
     truth_rays = std::move(truth.rays);
     std::vector<Eigen::Vector3d> covered_samples;
     for (const Eigen::Vector3d& p : mesh_samples) {
@@ -184,17 +201,17 @@ int runEval(const std::vector<std::string>& args) {
     }
     const datasets::PointCloudIndex cloud(truth.returns_W, 0.5);
     accuracy = datasets::distancesToPoints(covered_samples, cloud, match_radius_m);
-    report << "truth lidar " << parser.get("--gt-lidar") << " frames " << parser.get("--frames") << '\n'
+    report << "truth lidar " << *options.gt_lidar << " frames " << options.frames << '\n'
            << "truth_scans " << truth.world_from_sensor.size() << '\n'
            << "truth_returns " << truth.returns_read << '\n'
            << "mesh_samples_in_lidar_coverage " << covered_samples.size() << " of " << mesh_samples.size() << '\n';
   } else {
-    const mesher::TriangleMesh truth_mesh = mesher::readMesh(parser.get("--gt-mesh"));
+    const mesher::TriangleMesh truth_mesh = mesher::readMesh(*options.gt_mesh);
     const datasets::TriangleBvh truth_bvh(truth_mesh);
-    const auto views = readViews(parser.get("--views"), positiveCount(parser, "--view-step"));
+    const auto views = readViews(*options.views, options.view_step);
     truth_rays = datasets::renderTruthRays(truth_bvh, views, camera, config);
     accuracy = datasets::distancesToSurface(mesh_samples, truth_bvh);
-    report << "truth mesh " << parser.get("--gt-mesh") << '\n'
+    report << "truth mesh " << *options.gt_mesh << '\n'
            << "truth_views " << views.size() << '\n';
   }
   if (truth_rays.empty()) throw UsageError("eval: no ground-truth ray within " + fixed(config.max_depth_m, 1) + " m of a view");
@@ -214,8 +231,8 @@ int runEval(const std::vector<std::string>& args) {
   reportDistances(report, "accuracy", accuracy);
   reportDistances(report, "completeness", completeness);
 
-  if (parser.has("--report")) writeFileAtomically(parser.get("--report"), report.str());
-  if (!parser.flagSet("--quiet")) std::cout << report.str();
+  if (options.report) writeFileAtomically(*options.report, report.str());
+  if (!options.quiet) std::cout << report.str();
   return kExitOk;
 }
 

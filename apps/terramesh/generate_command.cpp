@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <optional>
 #include <sstream>
 
 #include "cli_args.h"
@@ -22,34 +24,80 @@ namespace {
 
 using datasets::SlamSimulationConfig;
 
-void declareOptions(ArgParser& parser) {
-  parser.positional("SCENE", "street, offroad or garage")
-      .option("--output", "DIR", "output directory (created if missing)")
-      .alias("-o", "--output")
-      .option("--preset", "NAME",
-              "kitti-like (issue 3's benchmark stream: a keyframe every 4 frames, ~130 new points "
-              "and ~500 observations per keyframe, 10% moving points) or kitti-dense (~4,500 "
-              "observations per keyframe); street only, needs --kitti-poses")
-      .option("--kitti-poses", "FILE", "street: follow this KITTI odometry pose file (world frame y-down)")
-      .option("--frames", "A:B", "with --kitti-poses: frames A to B-1 (\"A:\" to the end)")
-      .option("--length-m", "L",
-              "scene length: street 300, offroad 200, garage 48 (its x extent); with --kitti-poses "
-              "the trajectory is cut after L metres (default: all)")
-      .option("--seed", "N", "seed of the scene and of the simulated SLAM", "1")
-      .option("--object-density", "X", "scales cars, trees, buildings, rocks (0: none)", "1")
-      .option("--keyframe-spacing-m", "D", "a keyframe every D metres travelled (default 2)")
-      .option("--keyframe-every", "N", "a keyframe every N frames instead (frames are 10 Hz)")
-      .option("--points-per-keyframe", "N", "new features per keyframe (default 130)")
-      .option("--noise-std-m", "S", "observation noise along the ray at zero depth (default 0.03)")
-      .option("--depth-noise-per-m", "K", "noise along the ray grows by K * depth^2 (default 3e-4)")
-      .option("--pixel-noise-px", "P", "noise across the ray, in pixels (default 1)")
-      .option("--outlier-fraction", "F", "fraction of points that are gross outliers (default 0.01)")
-      .option("--moving-fraction", "F", "fraction of points refined at re-observation (default 1)")
-      .option("--match-probability", "P", "chance of re-observing a visible tracked point (default 0.7)")
-      .option("--max-range-m", "R", "features farther than R are not seen (default 40)")
-      .option("--loop-closure-drift-m", "D",
-              "the middle third of keyframes drifts up to D metres, then is re-sent corrected (default 0)")
-      .flag("--quiet", "print nothing but errors");
+/// The parsed command line; unset optionals keep the scene's or the simulation's defaults.
+struct GenerateOptions {
+  std::string scene;
+  std::string output;
+  std::optional<std::string> preset;
+  std::optional<std::string> kitti_poses;
+  std::optional<std::string> frames;
+  std::optional<std::string> length_m;  ///< kept as typed, for generation.txt; checked as a number
+  long seed = 1;
+  double object_density = 1;
+  std::optional<double> keyframe_spacing_m;
+  std::optional<long> keyframe_every;
+  std::optional<long> points_per_keyframe;
+  std::map<std::string, double> reals;  ///< the simulation's real-valued options that were given
+  bool quiet = false;
+
+  double lengthM() const { return std::stod(*length_m); }
+};
+
+/// The simulation's real-valued options: name, help, member.
+struct RealOption {
+  const char* name;
+  const char* help;
+  double SlamSimulationConfig::*member;
+};
+const RealOption kRealOptions[] = {
+    {"--noise-std-m", "observation noise along the ray at zero depth (default 0.03)", &SlamSimulationConfig::noise_std_m},
+    {"--depth-noise-per-m", "noise along the ray grows by K * depth^2 (default 3e-4)",
+     &SlamSimulationConfig::depth_noise_per_m},
+    {"--pixel-noise-px", "noise across the ray, in pixels (default 1)", &SlamSimulationConfig::pixel_noise_px},
+    {"--outlier-fraction", "fraction of points that are gross outliers (default 0.01)",
+     &SlamSimulationConfig::outlier_fraction},
+    {"--moving-fraction", "fraction of points refined at re-observation (default 1)",
+     &SlamSimulationConfig::moving_point_fraction},
+    {"--match-probability", "chance of re-observing a visible tracked point (default 0.7)",
+     &SlamSimulationConfig::match_probability},
+    {"--max-range-m", "features farther than R are not seen (default 40)", &SlamSimulationConfig::max_range_m},
+    {"--loop-closure-drift-m", "the middle third of keyframes drifts up to D metres, then is re-sent corrected (default 0)",
+     &SlamSimulationConfig::loop_closure_drift_m}};
+
+void declareOptions(CLI::App& app, GenerateOptions& options) {
+  app.add_option("SCENE", options.scene, "street, offroad or garage")->required();
+  app.add_option("-o,--output", options.output, "output directory (created if missing)")->option_text("DIR");
+  app.add_option("--preset", options.preset,
+                 "kitti-like (issue 3's benchmark stream: a keyframe every 4 frames, ~130 new points "
+                 "and ~500 observations per keyframe, 10% moving points) or kitti-dense (~4,500 "
+                 "observations per keyframe); street only, needs --kitti-poses")
+      ->option_text("NAME");
+  app.add_option("--kitti-poses", options.kitti_poses, "street: follow this KITTI odometry pose file (world frame y-down)")
+      ->option_text("FILE");
+  app.add_option("--frames", options.frames, "with --kitti-poses: frames A to B-1 (\"A:\" to the end)")
+      ->option_text("A:B");
+  app.add_option("--length-m", options.length_m,
+                 "scene length: street 300, offroad 200, garage 48 (its x extent); with --kitti-poses "
+                 "the trajectory is cut after L metres (default: all)")
+      ->option_text("L")
+      ->check(CLI::Number);
+  app.add_option("--seed", options.seed, "seed of the scene and of the simulated SLAM")->check(nonNegativeNumber());
+  app.add_option("--object-density", options.object_density, "scales cars, trees, buildings, rocks (0: none)");
+  app.add_option("--keyframe-spacing-m", options.keyframe_spacing_m, "a keyframe every D metres travelled (default 2)")
+      ->option_text("D");
+  app.add_option("--keyframe-every", options.keyframe_every, "a keyframe every N frames instead (frames are 10 Hz)")
+      ->option_text("N")
+      ->check(nonNegativeNumber());
+  app.add_option("--points-per-keyframe", options.points_per_keyframe, "new features per keyframe (default 130)")
+      ->option_text("N")
+      ->check(nonNegativeNumber());
+  for (const RealOption& real : kRealOptions) {
+    const std::string name = real.name;
+    app.add_option_function<double>(
+           name, [&options, name](double value) { options.reals[name] = value; }, real.help)
+        ->option_text("X");
+  }
+  app.add_flag("--quiet", options.quiet, "print nothing but errors");
 }
 
 /// Parses "A:B" or "A:" into a half-open frame range.
@@ -64,66 +112,49 @@ std::pair<std::size_t, std::size_t> parseFrameRange(const std::string& text) {
   return {first, last};
 }
 
-long nonNegativeInt(const ArgParser& parser, const std::string& name) {
-  const long value = parser.getInt(name);
-  if (value < 0) throw UsageError("generate: " + name + " must be >= 0");
-  return value;
-}
-
-SlamSimulationConfig simulationConfig(const ArgParser& parser) {
+SlamSimulationConfig simulationConfig(const GenerateOptions& options) {
   SlamSimulationConfig config;
-  if (parser.has("--preset")) {
-    const std::string preset = parser.get("--preset");
-    if (preset == "kitti-like") config = datasets::kittiLikeSlamConfig();
-    else if (preset == "kitti-dense") config = datasets::kittiDenseSlamConfig();
+  if (options.preset) {
+    if (*options.preset == "kitti-like") config = datasets::kittiLikeSlamConfig();
+    else if (*options.preset == "kitti-dense") config = datasets::kittiDenseSlamConfig();
     else throw UsageError("generate: --preset must be kitti-like or kitti-dense");
   }
-  config.seed = static_cast<std::uint64_t>(nonNegativeInt(parser, "--seed"));
-  if (parser.has("--keyframe-spacing-m") && parser.has("--keyframe-every")) {
+  config.seed = static_cast<std::uint64_t>(options.seed);
+  if (options.keyframe_spacing_m && options.keyframe_every) {
     throw UsageError("generate: give --keyframe-spacing-m or --keyframe-every, not both");
   }
-  if (parser.has("--keyframe-spacing-m")) {
-    config.keyframe_spacing_m = parser.getDouble("--keyframe-spacing-m");
+  if (options.keyframe_spacing_m) {
+    config.keyframe_spacing_m = *options.keyframe_spacing_m;
     config.keyframe_every_frames = 0;
   }
-  if (parser.has("--keyframe-every")) config.keyframe_every_frames = static_cast<int>(nonNegativeInt(parser, "--keyframe-every"));
-  if (parser.has("--points-per-keyframe")) {
-    config.new_points_per_keyframe = static_cast<int>(nonNegativeInt(parser, "--points-per-keyframe"));
-  }
-  const std::pair<const char*, double SlamSimulationConfig::*> reals[] = {
-      {"--noise-std-m", &SlamSimulationConfig::noise_std_m},
-      {"--depth-noise-per-m", &SlamSimulationConfig::depth_noise_per_m},
-      {"--pixel-noise-px", &SlamSimulationConfig::pixel_noise_px},
-      {"--outlier-fraction", &SlamSimulationConfig::outlier_fraction},
-      {"--moving-fraction", &SlamSimulationConfig::moving_point_fraction},
-      {"--match-probability", &SlamSimulationConfig::match_probability},
-      {"--max-range-m", &SlamSimulationConfig::max_range_m},
-      {"--loop-closure-drift-m", &SlamSimulationConfig::loop_closure_drift_m}};
-  for (const auto& [name, member] : reals) {
-    if (parser.has(name)) config.*member = parser.getDouble(name);
+  if (options.keyframe_every) config.keyframe_every_frames = static_cast<int>(*options.keyframe_every);
+  if (options.points_per_keyframe) config.new_points_per_keyframe = static_cast<int>(*options.points_per_keyframe);
+  for (const RealOption& real : kRealOptions) {
+    if (const auto it = options.reals.find(real.name); it != options.reals.end()) config.*real.member = it->second;
   }
   config.validate();
   return config;
 }
 
 /// Builds the scene the arguments ask for; `source` says where its trajectory came from.
-datasets::SyntheticScene buildScene(const ArgParser& parser, const std::string& name, std::string& source) {
-  const auto seed = static_cast<std::uint64_t>(nonNegativeInt(parser, "--seed"));
-  const double density = parser.getDouble("--object-density");
-  const bool kitti = parser.has("--kitti-poses");
-  if (name != "street" && (kitti || parser.has("--frames") || parser.has("--preset"))) {
+datasets::SyntheticScene buildScene(const GenerateOptions& options, std::string& source) {
+  const std::string& name = options.scene;
+  const auto seed = static_cast<std::uint64_t>(options.seed);
+  const double density = options.object_density;
+  const bool kitti = options.kitti_poses.has_value();
+  if (name != "street" && (kitti || options.frames || options.preset)) {
     throw UsageError("generate: --kitti-poses, --frames and --preset apply to the street scene only");
   }
-  if (parser.has("--preset") && !kitti) {
+  if (options.preset && !kitti) {
     throw UsageError("generate: --preset needs --kitti-poses FILE (e.g. ../shared/data/kitti_poses/00.txt)");
   }
-  if (parser.has("--frames") && !kitti) throw UsageError("generate: --frames needs --kitti-poses");
+  if (options.frames && !kitti) throw UsageError("generate: --frames needs --kitti-poses");
   source = "procedural";
   // What every scene config shares.
   auto common = [&](auto config) {
     config.seed = seed;
     config.object_density = density;
-    if (parser.has("--length-m")) config.length_m = parser.getDouble("--length-m");
+    if (options.length_m) config.length_m = options.lengthM();
     return config;
   };
   if (name == "offroad") return datasets::buildOffroadScene(common(datasets::OffroadSceneConfig{}));
@@ -131,14 +162,14 @@ datasets::SyntheticScene buildScene(const ArgParser& parser, const std::string& 
   if (name == "street") {
     datasets::StreetSceneConfig config = common(datasets::StreetSceneConfig{});
     if (!kitti) return datasets::buildStreetScene(config);
-    if (!parser.has("--length-m")) config.length_m = 0.0;  // the whole trajectory
-    const std::string file = parser.get("--kitti-poses");
+    if (!options.length_m) config.length_m = 0.0;  // the whole trajectory
+    const std::string& file = *options.kitti_poses;
     datasets::PoseList poses = datasets::readKittiPoses(file);
     std::string range = "all";
-    if (parser.has("--frames")) {
-      const auto [first, last] = parseFrameRange(parser.get("--frames"));
+    if (options.frames) {
+      const auto [first, last] = parseFrameRange(*options.frames);
       poses = datasets::selectFrames(poses, first, last);
-      range = parser.get("--frames");
+      range = *options.frames;
     }
     source = "kitti_poses " + file + " frames " + range;
     return datasets::buildStreetScene(config, poses);
@@ -147,7 +178,7 @@ datasets::SyntheticScene buildScene(const ArgParser& parser, const std::string& 
 }
 
 std::string describeRun(const datasets::SyntheticScene& scene, const std::string& source,
-                        const ArgParser& parser, const SlamSimulationConfig& config,
+                        const GenerateOptions& options, const SlamSimulationConfig& config,
                         const datasets::SimulatedSlam& slam) {
   const datasets::SimulationStats& stats = slam.stats;
   const double keyframes = static_cast<double>(std::max<std::size_t>(stats.keyframes, 1));
@@ -156,9 +187,8 @@ std::string describeRun(const datasets::SyntheticScene& scene, const std::string
   out << "scene " << scene.name << "\ntrajectory " << source << "\nframe " << scene.frame_description
       << "\nup_W " << scene.up_W.x() << ' ' << scene.up_W.y() << ' ' << scene.up_W.z() << "\nmetres_per_unit 1\nframe_rate_hz "
       << datasets::kSyntheticFrameRateHz << "\nseed " << config.seed << "\nobject_density "
-      << parser.getDouble("--object-density") << "\nlength_m "
-      << (parser.has("--length-m") ? parser.get("--length-m") : "default") << "\npreset "
-      << (parser.has("--preset") ? parser.get("--preset") : "none")
+      << options.object_density << "\nlength_m " << options.length_m.value_or("default") << "\npreset "
+      << options.preset.value_or("none")
       << "\nkeyframe_spacing_m " << config.keyframe_spacing_m << "\nkeyframe_every_frames "
       << config.keyframe_every_frames << "\nimage_px " << config.image_width_px << ' '
       << config.image_height_px << "\nfocal_length_px " << config.focal_length_px << "\nrange_m "
@@ -191,26 +221,25 @@ std::string describeRun(const datasets::SyntheticScene& scene, const std::string
 }  // namespace
 
 int runGenerate(const std::vector<std::string>& args) {
-  ArgParser parser("generate");
-  declareOptions(parser);
-  parser.parse(args);
-  if (parser.helpRequested()) {
-    std::cout << parser.usage()
-              << "\nwrites DIR/stream.tmstream, DIR/stream.json, DIR/ground_truth.ply (labels and slopes per "
-                 "face), DIR/trajectory.txt (true keyframe poses, KITTI format, line i = keyframe i) and "
-                 "DIR/generation.txt (see docs/synthetic_data.md)\n";
-    return kExitOk;
-  }
-  if (!parser.has("--output")) throw UsageError("generate: -o/--output DIR is required");
+  CLI::App app{"synthetic SLAM stream with ground truth", "terramesh generate"};
+  app.option_defaults()->always_capture_default();
+  app.footer(
+      "writes DIR/stream.tmstream, DIR/stream.json, DIR/ground_truth.ply (labels and slopes per face), "
+      "DIR/trajectory.txt (true keyframe poses, KITTI format, line i = keyframe i) and DIR/generation.txt (see "
+      "docs/synthetic_data.md)");
+  GenerateOptions options;
+  declareOptions(app, options);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  if (options.output.empty()) throw UsageError("generate: -o/--output DIR is required");
   const auto started = std::chrono::steady_clock::now();
   // Everything is parsed and validated before any output exists.
-  const SlamSimulationConfig config = simulationConfig(parser);
+  const SlamSimulationConfig config = simulationConfig(options);
   std::string source;
-  const datasets::SyntheticScene scene = buildScene(parser, parser.positionalValue("SCENE"), source);
+  const datasets::SyntheticScene scene = buildScene(options, source);
   const datasets::TriangleBvh bvh(scene.ground_truth.mesh);
   const datasets::SimulatedSlam slam = datasets::simulateSlam(scene, bvh, config);
 
-  const std::filesystem::path output = parser.get("--output");
+  const std::filesystem::path output = options.output;
   std::filesystem::create_directories(output);
   datasets::writeStreamFile(output / "stream.tmstream", slam.stream);
   datasets::writeSlamJson(output / "stream.json", slam.stream);
@@ -218,9 +247,9 @@ int runGenerate(const std::vector<std::string>& args) {
   datasets::PoseList keyframe_poses;
   for (const datasets::SimulatedKeyframe& keyframe : slam.keyframes) keyframe_poses.push_back(keyframe.true_T_W_C);
   datasets::writeKittiPoses(output / "trajectory.txt", keyframe_poses);
-  const std::string description = describeRun(scene, source, parser, config, slam);
+  const std::string description = describeRun(scene, source, options, config, slam);
   writeFileAtomically(output / "generation.txt", description);
-  if (!parser.flagSet("--quiet")) {
+  if (!options.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     const double keyframes = static_cast<double>(std::max<std::size_t>(slam.stats.keyframes, 1));
     std::printf("%s: %zu faces, %zu keyframes, %zu points, %.1f new points and %.1f observations per "

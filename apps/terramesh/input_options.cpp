@@ -18,31 +18,37 @@ void parseFrames(const std::string& text, datasets::KittiOdometryOptions& kitti)
 
 }  // namespace
 
-void declareInputOptions(ArgParser& parser) {
-  parser
-      .option("--input-format", "FMT", "how to read the input: " + datasets::streamFormatNames(), "auto")
-      .option("--image-list", "FILE",
-              "Bundler input: the image list (default: list_r000.out, list.txt... found beside "
-              "the .out file, else none: meshing needs no image names)")
-      .option("--poses", "FILE", "KITTI input: cam0 poses (KITTI or TUM format; default: found beside the sequence)")
-      .option("--frames", "A[:B[:S]]", "KITTI input: frames A to B (inclusive), every S-th")
-      .option("--max-returns-per-scan", "N", "KITTI input: keep N returns per scan, a seeded uniform subset (0: all)", "0")
-      .option("--max-range-m", "D", "KITTI input: drop returns farther than D from the sensor");
+void addInputOptions(CLI::App& app, InputOptions& options) {
+  app.add_option("--input-format", options.input_format, "how to read the input: " + datasets::streamFormatNames())
+      ->option_text("FMT");
+  app.add_option("--image-list", options.image_list,
+                 "Bundler input: the image list (default: list_r000.out, list.txt... found beside the .out file, "
+                 "else none: meshing needs no image names)")
+      ->option_text("FILE");
+  app.add_option("--poses", options.poses,
+                 "KITTI input: cam0 poses (KITTI or TUM format; default: found beside the sequence)")
+      ->option_text("FILE");
+  app.add_option("--frames", options.frames, "KITTI input: frames A to B (inclusive), every S-th")
+      ->option_text("A[:B[:S]]");
+  app.add_option("--max-returns-per-scan", options.max_returns_per_scan,
+                 "KITTI input: keep N returns per scan, a seeded uniform subset (0: all)")
+      ->option_text("N")
+      ->check(nonNegativeNumber());
+  app.add_option("--max-range-m", options.max_range_m, "KITTI input: drop returns farther than D from the sensor")
+      ->option_text("D");
 }
 
-datasets::StreamReadOptions streamReadOptionsFromArgs(const ArgParser& parser) {
+datasets::StreamReadOptions streamReadOptionsFrom(const InputOptions& values) {
   datasets::StreamReadOptions options;
-  const auto format = datasets::parseStreamFormat(parser.get("--input-format"));
+  const auto format = datasets::parseStreamFormat(values.input_format);
   if (!format) throw UsageError("--input-format must be one of " + datasets::streamFormatNames());
   options.format = *format;
-  if (parser.has("--image-list")) options.bundler_image_list = parser.get("--image-list");
+  if (values.image_list) options.bundler_image_list = *values.image_list;
   datasets::KittiOdometryOptions& kitti = options.kitti;
-  if (parser.has("--poses")) kitti.poses_path = parser.get("--poses");
-  if (parser.has("--frames")) parseFrames(parser.get("--frames"), kitti);
-  const long returns = parser.getInt("--max-returns-per-scan");
-  if (returns < 0) throw UsageError("--max-returns-per-scan must be >= 0");
-  kitti.max_returns_per_scan = static_cast<std::size_t>(returns);
-  if (parser.has("--max-range-m")) kitti.max_range_m = parser.getDouble("--max-range-m");
+  if (values.poses) kitti.poses_path = *values.poses;
+  if (values.frames) parseFrames(*values.frames, kitti);
+  kitti.max_returns_per_scan = values.max_returns_per_scan;
+  if (values.max_range_m) kitti.max_range_m = *values.max_range_m;
   const std::vector<std::string> problems = kitti.problems();
   if (!problems.empty()) {
     std::string message = "invalid KITTI input options:";

@@ -1,6 +1,7 @@
 // terramesh: one CLI with subcommands; each lives in its own file.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ const Command kCommands[] = {
     {"plan", "drivable path on a traversability map (OMPL on the surface; exit 3 if unreachable)",
      terramesh::cli::runPlan},
     {"generate", "synthetic SLAM stream with ground truth (street, offroad, garage)", terramesh::cli::runGenerate},
+    {"compare", "mesher vs OctoMap vs PCL surfaces on one stream: time, memory, accuracy, manifoldness, traversability, planning",
+     terramesh::cli::runCompare},
+    {"convert", "maps to and from PCL (PolygonMesh, PCD) and OctoMap (.bt), by extension", terramesh::cli::runConvert},
 };
 
 void printUsage(std::ostream& out) {
@@ -63,6 +67,10 @@ int main(int argc, char** argv) {
       return terramesh::cli::kExitBadInput;
     } catch (const std::invalid_argument& error) {
       std::cerr << "terramesh: " << error.what() << '\n';
+      return terramesh::cli::kExitBadInput;
+    } catch (const std::filesystem::filesystem_error& error) {
+      // An output directory that cannot be created or written: the caller's to fix.
+      std::cerr << "terramesh: cannot write " << error.path1() << ": " << error.code().message() << '\n';
       return terramesh::cli::kExitBadInput;
     } catch (const std::exception& error) {
       std::cerr << "terramesh: " << error.what() << '\n';

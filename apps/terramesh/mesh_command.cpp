@@ -12,8 +12,10 @@
 #include "mesher/mesh_io.h"
 #include "mesher/mesher.h"
 #include "input_options.h"
+#include "mesh_checkpoint.h"
 #include "mesher_options.h"
 #include "progress_bar.h"
+#include "stop_signal.h"
 #include "stats_table.h"
 #include "run_extras.h"
 #include "traversability_session.h"
@@ -49,59 +51,92 @@ std::string describeTopology(const mesher::MeshTopology& t) {
   return out.str();
 }
 
+constexpr const char* kExitCodesHelp =
+    "\nExit codes: 0 done; 1 failed (e.g. cannot write the output); 2 bad input, options or checkpoint;\n"
+    "130 / 143 stopped by SIGINT / SIGTERM: the update in progress was finished and the mesh, layers,\n"
+    "CSV and summary written for the events applied so far (and a checkpoint, with --checkpoint-every).\n";
+
 }  // namespace
 
 int runMesh(const std::vector<std::string>& args) {
-  ArgParser parser("mesh");
-  parser
-      .positional("INPUT",
-                  "SLAM stream: the authors' JSON (.json), terramesh's (.tmstream), "
-                  "OpenMVG sfm_data.json, Bundler .out, or a COLMAP or KITTI directory")
-      .option("--output", "DIR", "output directory (created if missing)")
-      .alias("-o", "--output")
-      .option("--mode", "MODE", "proposed, litvinov13 or romanoni15", "proposed")
-      .option("--format", "FMT", "mesh format: ply or obj", "ply")
-      .option("--snapshot-every", "K", "also write the mesh every K keyframes (0: never)", "0")
-      .flag("--drop-steiner",
-            "also write mesh_open.ply: the surface without faces touching Steiner vertices")
-      .flag("--check-invariants", "check every invariant after each update (slow; for testing)")
-      .flag("--quiet", "print nothing but errors");
-  declareInputOptions(parser);
-  declareMesherOptions(parser);
-  TraversabilitySession::declareOptions(parser);
-  parser.parse(args);
-  if (parser.helpRequested()) {
-    std::cout << parser.usage();
-    return kExitOk;
-  }
-  if (!parser.has("--output")) throw UsageError("mesh: -o/--output DIR is required");
-  const std::string format = parser.get("--format");
+  CLI::App app{"incremental manifold mesh from a SLAM stream", "terramesh mesh"};
+  app.option_defaults()->always_capture_default();
+  app.footer(kExitCodesHelp);
+  std::string input_path, output_dir, mode_name = "proposed", format = "ply";
+  long snapshot_every = 0, checkpoint_every = 0;
+  std::optional<std::string> resume_path;
+  bool drop_steiner = false, check = false, quiet = false;
+  InputOptions input_options;
+  MesherOptions mesher_options;
+  TraversabilitySessionOptions traversability_options;
+  app.add_option("INPUT", input_path,
+                 "SLAM stream: the authors' JSON (.json), terramesh's (.tmstream), OpenMVG sfm_data.json, Bundler "
+                 ".out, or a COLMAP or KITTI directory")
+      ->required();
+  app.add_option("-o,--output", output_dir, "output directory (created if missing)")->option_text("DIR");
+  app.add_option("--mode", mode_name, "proposed, litvinov13 or romanoni15");
+  app.add_option("--format", format, "mesh format: ply or obj");
+  app.add_option("--snapshot-every", snapshot_every, "also write the mesh every K keyframes (0: never)")
+      ->check(nonNegativeNumber());
+  app.add_option("--checkpoint-every", checkpoint_every,
+                 "save the whole mapper state to OUTDIR/checkpoint.tmckpt every K keyframes and when stopped by a "
+                 "signal (written atomically; 0: never)")
+      ->check(nonNegativeNumber());
+  app.add_option("--resume", resume_path,
+                 "continue an interrupted run from its checkpoint: give the same INPUT and input options; the "
+                 "mesher options come from the checkpoint")
+      ->option_text("CHECKPOINT");
+  app.add_flag("--drop-steiner", drop_steiner,
+               "also write mesh_open.ply: the surface without faces touching Steiner vertices");
+  app.add_flag("--check-invariants", check, "check every invariant after each update (slow; for testing)");
+  app.add_flag("--quiet", quiet, "print nothing but errors");
+  addInputOptions(app, input_options);
+  addMesherOptions(app, mesher_options);
+  TraversabilitySession::addOptions(app, traversability_options);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  if (output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
   if (format != "ply" && format != "obj") throw UsageError("mesh: --format must be ply or obj");
-  const long snapshot_every = parser.getInt("--snapshot-every");
-  if (snapshot_every < 0) throw UsageError("mesh: --snapshot-every must be >= 0");
-  const auto mode = mesher::parseMesherMode(parser.get("--mode"));
+  const auto mode = mesher::parseMesherMode(mode_name);
   if (!mode) throw UsageError("mesh: --mode must be proposed, litvinov13 or romanoni15");
-  const bool quiet = parser.flagSet("--quiet");
-  const datasets::StreamReadOptions read_options = streamReadOptionsFromArgs(parser);
+  const datasets::StreamReadOptions read_options = streamReadOptionsFrom(input_options);
 
   // Read and validate everything before creating any output.
-  const std::filesystem::path input = parser.positionalValue("INPUT");
+  const std::filesystem::path input = input_path;
   const datasets::SlamStream stream = datasets::readAnyStream(input, read_options);
-  const mesher::MesherConfig config = mesherConfigFromArgs(parser, *mode, stream);
-  const std::filesystem::path output = parser.get("--output");
+  std::optional<ResumedMeshRun> resumed;
+  if (resume_path) resumed = readMeshCheckpoint(*resume_path, stream);
+  const mesher::MesherConfig config =
+      resumed ? resumed->mesher.config() : mesherConfigFrom(mesher_options, *mode, stream);
+  const std::filesystem::path output = output_dir;
   std::optional<TraversabilitySession> traversability =
-      TraversabilitySession::fromArgs(parser, stream, config.metres_per_unit, output);
+      TraversabilitySession::fromOptions(traversability_options, stream, config.metres_per_unit, output);
   std::filesystem::create_directories(output);
   if (snapshot_every > 0) std::filesystem::create_directories(output / "snapshots");
 
-  mesher::Mesher mesher(config);
+  MeshRunState run;
+  if (resumed) run = resumed->state;
+  run.events = stream.events.size();
+  if (checkpoint_every > 0 && !resumed) run.stream_fingerprint = streamFingerprint(stream);
+  mesher::Mesher mesher = resumed ? std::move(resumed->mesher) : mesher::Mesher(config);
+  if (traversability && resumed) traversability->resume(mesher, run.keyframes);
   std::ostringstream csv;
-  csv << updateCsvHeader() << '\n';
-  mesher::UpdateStats totals;
-  std::size_t keyframes = 0;
+  csv << (resumed ? run.csv : updateCsvHeader() + "\n");
+  mesher::UpdateStats totals = run.totals;
+  std::size_t keyframes = run.keyframes;
+  const std::size_t first_event = run.next_event;
+  const std::filesystem::path checkpoint_path = output / kCheckpointFileName;
+  auto saveCheckpoint = [&](std::size_t next_event) {
+    run.next_event = next_event;
+    run.keyframes = keyframes;
+    run.totals = totals;
+    run.csv = csv.str();
+    writeMeshCheckpoint(checkpoint_path, mesher, run);
+  };
+  int stop_signal = 0;
+  std::size_t end_event = stream.events.size();
+  const StopSignalScope stop_scope;
   ProgressBar progress("meshing", stream.events.size());
-  const bool check = parser.flagSet("--check-invariants");
-  for (std::size_t i = 0; i < stream.events.size(); ++i) {
+  for (std::size_t i = first_event; i < stream.events.size(); ++i) {
     const datasets::StreamEvent& event = stream.events[i];
     const mesher::UpdateStats stats = datasets::applyEvent(mesher, event);
     totals += stats;
@@ -124,7 +159,15 @@ int runMesh(const std::vector<std::string>& args) {
         writeMesh(output / "snapshots" / name, mesher.extractMesh());
       }
     }
+    stop_signal = StopSignalScope::requested();
+    const bool checkpoint_due = checkpoint_every > 0 && kind == "keyframe" &&
+                                keyframes % static_cast<std::size_t>(checkpoint_every) == 0;
+    if (checkpoint_due || (stop_signal != 0 && checkpoint_every > 0)) saveCheckpoint(i + 1);
     progress.update(i + 1);
+    if (stop_signal != 0) {
+      end_event = i + 1;
+      break;
+    }
   }
 
   const mesher::TriangleMesh mesh = mesher.extractMesh();
@@ -134,12 +177,17 @@ int runMesh(const std::vector<std::string>& args) {
   writeRunExtras(stream, output);
   const mesher::MeshTopology topology = mesher::analyzeTopology(mesh);
   std::ostringstream summary;
-  summary << "input: " << input.string() << "\nmode: " << mesher::toString(config.mode)
+  summary << "input: " << input.string() << "\nmode: " << mesher::toString(config.mode())
           << "\nmetres_per_unit: " << config.metres_per_unit << "\nkeyframes: " << keyframes
           << "\nevents: " << stream.events.size() << "\nmesh: " << mesh_path.string() << " ("
           << describeTopology(topology) << ")\n";
+  if (resumed) summary << "resumed: from " << *resume_path << " at event " << first_event << '\n';
+  if (stop_signal != 0) {
+    summary << "stopped: by signal " << stop_signal << " after event " << end_event - 1 << " (" << keyframes
+            << " keyframes); exit code " << exitCodeForSignal(stop_signal) << '\n';
+  }
   printStepTotals(summary, totals, keyframes);
-  if (autoMaxDistance(parser, stream)) {
+  if (autoMaxDistance(mesher_options, stream)) {
     summary << "max_camera_distance_m: auto, " << kAutoMaxDistanceFactor << " x the "
             << 100 * kAutoMaxDistanceQuantile << "th percentile of the camera-to-point distances\n";
   }
@@ -147,7 +195,7 @@ int runMesh(const std::vector<std::string>& args) {
   for (const std::string& warning : inputFilterWarnings(totals, mesher.size(), config)) {
     if (!quiet) std::cerr << "terramesh: warning: " << warning << '\n';
   }
-  if (parser.flagSet("--drop-steiner")) {
+  if (drop_steiner) {
     const mesher::TriangleMesh open = mesher::dropSteinerFaces(mesh);
     const std::filesystem::path open_path = output / ("mesh_open." + format);
     writeMesh(open_path, open);
@@ -160,7 +208,7 @@ int runMesh(const std::vector<std::string>& args) {
   if (traversability) traversability->finish(mesher, summary);
   writeFileAtomically(output / "summary.txt", summary.str());
   if (!quiet) std::cout << summary.str();
-  return kExitOk;
+  return stop_signal != 0 ? exitCodeForSignal(stop_signal) : kExitOk;
 }
 
 }  // namespace terramesh::cli

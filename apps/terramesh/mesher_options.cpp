@@ -5,32 +5,6 @@
 
 namespace terramesh::cli {
 
-void declareMesherOptions(ArgParser& parser) {
-  parser
-      .option("--metres-per-unit", "S",
-              "size of one map unit in metres (default: from the stream, else 1; about 16.59 for "
-              "the ORB-SLAM KITTI 00 export)")
-      .option("--min-views", "N",
-              "keyframes that must see a point before it is inserted (default 2, or what the "
-              "stream advises: 1 for LiDAR)")
-      .option("--max-distance-m", "D",
-              "ignore observations farther than D metres from their camera; auto: twice the 95th "
-              "percentile of the stream's camera-to-point distances (default for COLMAP, OpenMVG "
-              "and Bundler models without --metres-per-unit; else 40)")
-      .option("--steiner-step-m", "L", "spacing of the Steiner grid", "10")
-      .option("--free-threshold", "T", "a cell is free space when its weight exceeds this "
-              "(default 20; 0 in litvinov13)")
-      .option("--move-threshold-m", "M", "moves of a point up to this are ignored", "0")
-      .option("--enclosing-radius-cells", "N",
-              "proposed: the enclosing set spans the Steiner cells within N cells of a changed point", "2")
-      .option("--camera-enclosing-radius-cells", "N",
-              "proposed: and those within N cells of the update's cameras (0: off, as in the paper; "
-              "2 carves more accurately near the camera at some cost, see docs/accuracy.md)", "0")
-      .option("--disable", "LIST",
-              "ablation: comma-separated techniques to switch off: incremental-steiner-grid, "
-              "local-enclosing-set, boundary-hash, next-cell-cache, ray-scheduler, edge-pass");
-}
-
 namespace {
 
 /// Switches off the techniques named in `list` (comma-separated).
@@ -81,38 +55,83 @@ mesher::AxisAlignedBox streamBounds(const datasets::SlamStream& stream) {
   return box;
 }
 
-bool autoMaxDistance(const ArgParser& parser, const datasets::SlamStream& stream) {
-  if (parser.has("--max-distance-m")) return parser.get("--max-distance-m") == "auto";
-  return stream.recommend_auto_max_distance && !parser.has("--metres-per-unit");
+void addMesherOptions(CLI::App& app, MesherOptions& options) {
+  app.add_option("--metres-per-unit", options.metres_per_unit,
+                 "size of one map unit in metres (default: from the stream, else 1; about 16.59 for the ORB-SLAM "
+                 "KITTI 00 export)")
+      ->option_text("S");
+  app.add_option("--min-views", options.min_views,
+                 "keyframes that must see a point before it is inserted (default 2, or what the stream advises: "
+                 "1 for LiDAR)")
+      ->option_text("N");
+  app.add_option("--max-distance-m", options.max_distance_m,
+                 "ignore observations farther than D metres from their camera; auto: twice the 95th percentile "
+                 "of the stream's camera-to-point distances (default for COLMAP, OpenMVG and Bundler models "
+                 "without --metres-per-unit; else 40)")
+      ->option_text("D|auto")
+      ->check(CLI::Number | CLI::IsMember({"auto"}));
+  app.add_option("--steiner-step-m", options.steiner_step_m, "spacing of the Steiner grid");
+  app.add_option("--free-threshold", options.free_threshold,
+                 "a cell is free space when its weight exceeds this (default 20; 0 in litvinov13)")
+      ->option_text("T");
+  app.add_option("--move-threshold-m", options.move_threshold_m, "moves of a point up to this are ignored");
+  app.add_option("--point-policy", options.point_policy,
+                 "exact-moves: inserted points follow their SLAM estimates (default in proposed); fixed: inserted "
+                 "once, never moved (default in the baselines, as the paper ran them)")
+      ->option_text("P");
+  app.add_option("--spread-cap", options.spread_cap,
+                 "crossings of a neighbour that count towards a cell's weight; 0: all (default 1; 0 in "
+                 "romanoni15, as its authors' code)")
+      ->option_text("N");
+  app.add_option("--enclosing-radius-cells", options.enclosing_radius_cells,
+                 "proposed: the enclosing set spans the Steiner cells within N cells of a changed point");
+  app.add_option("--camera-enclosing-radius-cells", options.camera_enclosing_radius_cells,
+                 "proposed: and those within N cells of the update's cameras (0: off, as in the paper; 2 carves "
+                 "more accurately near the camera at some cost, see docs/accuracy.md)");
+  app.add_option("--disable", options.disable,
+                 "ablation: comma-separated techniques to switch off: incremental-steiner-grid, "
+                 "local-enclosing-set, boundary-hash, next-cell-cache, ray-scheduler, edge-pass")
+      ->option_text("LIST");
 }
 
-mesher::MesherConfig mesherConfigFromArgs(const ArgParser& parser, mesher::MesherMode mode,
-                                          const datasets::SlamStream& stream) {
+bool autoMaxDistance(const MesherOptions& options, const datasets::SlamStream& stream) {
+  if (options.max_distance_m) return *options.max_distance_m == "auto";
+  return stream.recommend_auto_max_distance && !options.metres_per_unit;
+}
+
+mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::MesherMode mode,
+                                      const datasets::SlamStream& stream) {
   mesher::MesherConfig config = mesher::MesherConfig::forMode(mode);
-  config.metres_per_unit = parser.has("--metres-per-unit") ? parser.getDouble("--metres-per-unit")
-                           : stream.scale_known             ? stream.metres_per_unit
-                                                            : 1.0;
-  if (parser.has("--min-views")) {
-    config.min_views = static_cast<int>(parser.getInt("--min-views"));
+  config.metres_per_unit = options.metres_per_unit ? *options.metres_per_unit
+                           : stream.scale_known    ? stream.metres_per_unit
+                                                   : 1.0;
+  if (options.min_views) {
+    config.min_views = *options.min_views;
   } else if (stream.recommended_min_views > 0) {
     config.min_views = stream.recommended_min_views;
   }
-  if (autoMaxDistance(parser, stream)) {
+  if (autoMaxDistance(options, stream)) {
     const double distance_units =
         datasets::observationDistanceQuantile(stream, kAutoMaxDistanceQuantile);
     // No observation: nothing to filter, any positive distance will do.
     if (distance_units > 0.0) {
       config.max_camera_distance_m = kAutoMaxDistanceFactor * distance_units * config.metres_per_unit;
     }
-  } else if (parser.has("--max-distance-m")) {
-    config.max_camera_distance_m = parser.getDouble("--max-distance-m");
+  } else if (options.max_distance_m) {
+    config.max_camera_distance_m = std::stod(*options.max_distance_m);
   }
-  config.steiner_step_m = parser.getDouble("--steiner-step-m");
-  if (parser.has("--free-threshold")) config.free_threshold = parser.getDouble("--free-threshold");
-  config.move_threshold_m = parser.getDouble("--move-threshold-m");
-  config.enclosing_radius_cells = static_cast<int>(parser.getInt("--enclosing-radius-cells"));
-  config.camera_enclosing_radius_cells = static_cast<int>(parser.getInt("--camera-enclosing-radius-cells"));
-  if (parser.has("--disable")) disableTechniques(parser.get("--disable"), config);
+  config.steiner_step_m = options.steiner_step_m;
+  if (options.free_threshold) config.free_threshold = *options.free_threshold;
+  config.move_threshold_m = options.move_threshold_m;
+  if (options.point_policy) {
+    const auto policy = mesher::parsePointPolicy(*options.point_policy);
+    if (!policy) throw UsageError("--point-policy: expected exact-moves or fixed");
+    config.point_policy = *policy;
+  }
+  if (options.spread_cap) config.spread_cap = *options.spread_cap;
+  config.enclosing_radius_cells = options.enclosing_radius_cells;
+  config.camera_enclosing_radius_cells = options.camera_enclosing_radius_cells;
+  if (options.disable) disableTechniques(*options.disable, config);
   if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = streamBounds(stream);
   const std::vector<std::string> problems = config.problems();
   if (!problems.empty()) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <unistd.h>
 
@@ -19,26 +20,11 @@
 namespace terramesh::cli {
 namespace {
 
-/// "--start X Y Z" becomes "--start X,Y,Z" so that the parser sees one value.
-std::vector<std::string> joinTriples(const std::vector<std::string>& args) {
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    out.push_back(args[i]);
-    if ((args[i] == "--start" || args[i] == "--goal") && i + 3 < args.size()) {
-      out.push_back(args[i + 1] + "," + args[i + 2] + "," + args[i + 3]);
-      i += 3;
-    }
-  }
-  return out;
-}
-
-Eigen::Vector3d parsePoint(const ArgParser& parser, const std::string& name) {
-  std::stringstream in(parser.get(name));
-  Eigen::Vector3d p;
-  char comma1 = 0, comma2 = 0;
-  if (!(in >> p.x() >> comma1 >> p.y() >> comma2 >> p.z()) || comma1 != ',' || comma2 != ',' || !p.allFinite()) {
-    throw UsageError("plan: " + name + " expects three numbers X Y Z, got \"" + parser.get(name) + "\"");
-  }
+/// Three finite numbers into a point.
+/// @throw UsageError naming the option.
+Eigen::Vector3d toPoint(const std::vector<double>& values, const std::string& name) {
+  const Eigen::Vector3d p(values.at(0), values.at(1), values.at(2));
+  if (!p.allFinite()) throw UsageError("plan: " + name + " expects three finite numbers X Y Z");
   return p;
 }
 
@@ -131,49 +117,56 @@ int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConf
 }  // namespace
 
 int runPlan(const std::vector<std::string>& args) {
-  ArgParser parser("plan");
-  parser.positional("MAP_DIR", "map directory written by terramesh traverse (traversability.ply, robot.yaml, map_frame.yaml)")
-      .option("--start", "X Y Z", "start point, map frame and units (snapped to the nearest walkable face)")
-      .option("--goal", "X Y Z", "goal point")
-      .option("--output", "DIR", "output directory (created if missing)")
-      .alias("-o", "--output")
-      .option("--planner", "NAME", "rrtstar, informed-rrtstar, prmstar, lazyprmstar, bitstar, aitstar, or graph (A* baseline)",
-              "bitstar")
-      .option("--time-budget-s", "T", "planning time budget per query", "2")
-      .option("--seed", "N", "random seed (> 0)", "1")
-      .option("--snap-radius-m", "R", "start and goal must lie this close to a walkable face", "0.5")
-      .option("--random-pairs", "N", "plan between N random pairs instead; writes benchmark.log and pairs.csv")
-      .option("--robot", "FILE", "recompute the layers for this robot profile (YAML) instead of robot.yaml")
-      .flag("--no-simplify", "keep the planner's raw path")
-      .flag("--quiet", "print nothing but errors");
-  parser.parse(joinTriples(args));
-  if (parser.helpRequested()) {
-    std::cout << parser.usage()
-              << "\nwrites OUT/path.csv (x,y,z,yaw,face,cost), OUT/path.ply (line set) and OUT/plan.txt; exit code 3 "
-                 "when the goal is unreachable (one-line reason)\n";
-    return kExitOk;
-  }
-  if (!parser.has("--output")) throw UsageError("plan: -o/--output DIR is required");
-  const bool random = parser.has("--random-pairs");
-  if (!random && (!parser.has("--start") || !parser.has("--goal"))) {
+  CLI::App app{"drivable path on a traversability map (OMPL on the surface; exit 3 if unreachable)", "terramesh plan"};
+  app.option_defaults()->always_capture_default();
+  app.footer(
+      "writes OUT/path.csv (x,y,z,yaw,face,cost), OUT/path.ply (line set) and OUT/plan.txt; exit code 3 when the "
+      "goal is unreachable (one-line reason)");
+  std::string map_dir, output_dir, planner = "bitstar";
+  std::vector<double> start_xyz, goal_xyz;
+  double time_budget_s = 2, snap_radius_m = 0.5;
+  std::uint32_t seed = 1;
+  std::optional<std::size_t> random_pairs;
+  std::optional<std::string> robot;
+  bool no_simplify = false, quiet = false;
+  app.add_option("MAP_DIR", map_dir,
+                 "map directory written by terramesh traverse (traversability.ply, robot.yaml, map_frame.yaml)")
+      ->required();
+  app.add_option("--start", start_xyz, "start point, map frame and units (snapped to the nearest walkable face)")
+      ->expected(3)
+      ->option_text("X Y Z");
+  app.add_option("--goal", goal_xyz, "goal point")->expected(3)->option_text("X Y Z");
+  app.add_option("-o,--output", output_dir, "output directory (created if missing)")->option_text("DIR");
+  app.add_option("--planner", planner,
+                 "rrtstar, informed-rrtstar, prmstar, lazyprmstar, bitstar, aitstar, or graph (A* baseline)");
+  app.add_option("--time-budget-s", time_budget_s, "planning time budget per query");
+  app.add_option("--seed", seed, "random seed (> 0)")->check(positiveNumber());
+  app.add_option("--snap-radius-m", snap_radius_m, "start and goal must lie this close to a walkable face");
+  app.add_option("--random-pairs", random_pairs, "plan between N random pairs instead; writes benchmark.log and pairs.csv")
+      ->option_text("N")
+      ->check(positiveNumber());
+  app.add_option("--robot", robot, "recompute the layers for this robot profile (YAML) instead of robot.yaml")
+      ->option_text("FILE");
+  app.add_flag("--no-simplify", no_simplify, "keep the planner's raw path");
+  app.add_flag("--quiet", quiet, "print nothing but errors");
+  if (!parseCommandLine(app, args)) return kExitOk;
+  if (output_dir.empty()) throw UsageError("plan: -o/--output DIR is required");
+  const bool random = random_pairs.has_value();
+  if (!random && (start_xyz.empty() || goal_xyz.empty())) {
     throw UsageError("plan: give --start X Y Z and --goal X Y Z, or --random-pairs N");
   }
   planning::PlannerConfig config;
-  const std::string planner = parser.get("--planner");
   const bool graph_only = planner == "graph";
   config.planner = graph_only ? "rrtstar" : planner;
-  config.time_budget_s = parser.getDouble("--time-budget-s");
-  const long seed = parser.getInt("--seed");
-  if (seed <= 0) throw UsageError("plan: --seed must be > 0");
-  config.seed = static_cast<std::uint32_t>(seed);
-  config.snap_radius_m = parser.getDouble("--snap-radius-m");
-  config.simplify = !parser.flagSet("--no-simplify");
+  config.time_budget_s = time_budget_s;
+  config.seed = seed;
+  config.snap_radius_m = snap_radius_m;
+  config.simplify = !no_simplify;
   config.validate();
-  const bool quiet = parser.flagSet("--quiet");
 
-  traversability::MapDirectory map = traversability::readMapDirectory(parser.positionalValue("MAP_DIR"));
-  if (parser.has("--robot")) {
-    map.profile = traversability::loadRobotProfile(parser.get("--robot"));
+  traversability::MapDirectory map = traversability::readMapDirectory(map_dir);
+  if (robot) {
+    map.profile = traversability::loadRobotProfile(*robot);
     map.profile.validate();
     traversability::MapFrame frame;
     frame.up_W = map.map.up_W;
@@ -187,14 +180,13 @@ int runPlan(const std::vector<std::string>& args) {
   planning::setOmplLogging(false);
   planning::seedOmpl(config.seed);
 
-  const std::filesystem::path out = parser.get("--output");
-  std::filesystem::create_directories(out);
+  const std::filesystem::path out = output_dir;
   if (random) {
-    const long count = parser.getInt("--random-pairs");
-    if (count <= 0) throw UsageError("plan: --random-pairs must be > 0");
-    return runRandomPairs(graph, config, static_cast<std::size_t>(count), out, quiet);
+    std::filesystem::create_directories(out);
+    return runRandomPairs(graph, config, *random_pairs, out, quiet);
   }
-  const Eigen::Vector3d start = parsePoint(parser, "--start"), goal = parsePoint(parser, "--goal");
+  const Eigen::Vector3d start = toPoint(start_xyz, "--start"), goal = toPoint(goal_xyz, "--goal");
+  std::filesystem::create_directories(out);
   const planning::PlanResult result = graph_only ? planning::planOnFaceGraph(graph, start, goal, config)
                                                  : planning::planOnSurface(graph, start, goal, config);
   writeFileAtomically(out / "plan.txt", describe(result));

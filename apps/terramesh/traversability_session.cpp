@@ -21,25 +21,29 @@ constexpr const char* kUpdatesCsv = "traversability_updates.csv";
 
 }  // namespace
 
-void declareTraversabilityExportOptions(ArgParser& parser) {
-  parser.option("--robot", "YAML", "robot profile (traversability/robots/*.yaml); for mesh: enables the traversability map")
-      .option("--grid-resolution-m", "R", "cell size of the Nav2 maps and GeoTIFF layers, metres", "0.1")
-      .flag("--no-geotiff", "do not write the GeoTIFF layers (layers_level_N.tif)");
+void addTraversabilityExportOptions(CLI::App& app, TraversabilityExportOptions& options) {
+  app.add_option("--robot", options.robot,
+                 "robot profile (traversability/robots/*.yaml); for mesh: enables the traversability map")
+      ->option_text("YAML");
+  app.add_option("--grid-resolution-m", options.grid_resolution_m, "cell size of the Nav2 maps and GeoTIFF layers, metres")
+      ->check(positiveNumber());
+  app.add_flag("--no-geotiff", options.no_geotiff, "do not write the GeoTIFF layers (layers_level_N.tif)");
 }
 
-traversability::ExportConfig exportConfigFromArgs(const ArgParser& parser) {
+traversability::ExportConfig exportConfigFrom(const TraversabilityExportOptions& options) {
   traversability::ExportConfig config;
-  config.grid_resolution_m = parser.getDouble("--grid-resolution-m");
+  config.grid_resolution_m = options.grid_resolution_m;
   if (!(config.grid_resolution_m > 0) || !std::isfinite(config.grid_resolution_m)) {
     throw UsageError("--grid-resolution-m must be > 0");
   }
-  config.write_geotiff = !parser.flagSet("--no-geotiff");
+  config.write_geotiff = !options.no_geotiff;
   config.validate();
   return config;
 }
 
-traversability::RobotProfile robotFromArgs(const ArgParser& parser) {
-  const std::filesystem::path path = parser.get("--robot");
+traversability::RobotProfile robotFrom(const TraversabilityExportOptions& options) {
+  if (!options.robot) throw UsageError("--robot YAML is required");
+  const std::filesystem::path path = *options.robot;
   traversability::RobotProfile profile = traversability::loadRobotProfile(path);
   try {
     profile.validate();
@@ -60,26 +64,25 @@ Eigen::Vector3d parseUpVector(const std::string& text) {
   return up.normalized();
 }
 
-void TraversabilitySession::declareOptions(ArgParser& parser) {
-  declareTraversabilityExportOptions(parser);
-  parser.option("--export-every", "K", "with --robot: rewrite the map exports every K keyframes (0: only at the end)",
-                "0");
+void TraversabilitySession::addOptions(CLI::App& app, TraversabilitySessionOptions& options) {
+  addTraversabilityExportOptions(app, options.exports);
+  app.add_option("--export-every", options.export_every,
+                 "with --robot: rewrite the map exports every K keyframes (0: only at the end)")
+      ->option_text("K")
+      ->check(nonNegativeNumber());
 }
 
-std::optional<TraversabilitySession> TraversabilitySession::fromArgs(const ArgParser& parser,
-                                                                     const datasets::SlamStream& stream,
-                                                                     double metres_per_unit,
-                                                                     std::filesystem::path output) {
-  if (!parser.has("--robot")) {
-    if (parser.has("--export-every") && parser.getInt("--export-every") != 0) {
-      throw UsageError("mesh: --export-every needs --robot");
-    }
+std::optional<TraversabilitySession> TraversabilitySession::fromOptions(const TraversabilitySessionOptions& options,
+                                                                        const datasets::SlamStream& stream,
+                                                                        double metres_per_unit,
+                                                                        std::filesystem::path output) {
+  if (!options.exports.robot) {
+    if (options.export_every != 0) throw UsageError("mesh: --export-every needs --robot");
     return std::nullopt;
   }
-  const long export_every = parser.getInt("--export-every");
-  if (export_every < 0) throw UsageError("mesh: --export-every must be >= 0");
-  const traversability::ExportConfig config = exportConfigFromArgs(parser);
-  const traversability::RobotProfile profile = robotFromArgs(parser);
+  const std::size_t export_every = options.export_every;
+  const traversability::ExportConfig config = exportConfigFrom(options.exports);
+  const traversability::RobotProfile profile = robotFrom(options.exports);
   traversability::MapFrame frame;
   frame.metres_per_unit = metres_per_unit;
   std::string up_source;
@@ -100,8 +103,7 @@ std::optional<TraversabilitySession> TraversabilitySession::fromArgs(const ArgPa
     up_source = text.str();
   }
   frame.validate();
-  return TraversabilitySession(profile, frame, config, std::move(output), static_cast<std::size_t>(export_every),
-                               up_source);
+  return TraversabilitySession(profile, frame, config, std::move(output), export_every, up_source);
 }
 
 TraversabilitySession::TraversabilitySession(traversability::RobotProfile profile, traversability::MapFrame frame,
@@ -157,6 +159,14 @@ void TraversabilitySession::afterEvent(const mesher::Mesher& mesher, std::size_t
     writeFileAtomically(output_ / kUpdatesCsv, csv_.str() + std::to_string(export_s) + "\n");
   }
   csv_ << export_s << '\n';
+}
+
+void TraversabilitySession::resume(const mesher::Mesher& mesher, std::size_t keyframes) {
+  keyframes_ = keyframes;
+  const traversability::LayerUpdateStats stats = map_->reset(mesher.surfaceFaces());
+  ++full_rebuilds_;
+  revision_ = mesher.revision();
+  update_seconds_ += stats.seconds;
 }
 
 void TraversabilitySession::finish(const mesher::Mesher& mesher, std::ostream& summary) {

@@ -20,30 +20,47 @@
 namespace terramesh::cli {
 
 /// Options shared by `mesh` and `traverse`: the robot, the grid and the GeoTIFF switch.
-void declareTraversabilityExportOptions(ArgParser& parser);
-/// @throw UsageError for a bad --grid-resolution-m.
-traversability::ExportConfig exportConfigFromArgs(const ArgParser& parser);
-/// Loads --robot and validates it.
+struct TraversabilityExportOptions {
+  std::optional<std::string> robot;  ///< --robot YAML
+  double grid_resolution_m = 0.1;
+  bool no_geotiff = false;
+};
+/// Adds --robot, --grid-resolution-m and --no-geotiff to `app`, filling `options`.
+void addTraversabilityExportOptions(CLI::App& app, TraversabilityExportOptions& options);
+/// @throw std::invalid_argument for a bad grid resolution.
+traversability::ExportConfig exportConfigFrom(const TraversabilityExportOptions& options);
+/// Loads --robot (which must be given) and validates it.
 /// @throw terramesh::InputError naming the file and key; std::invalid_argument for a range error.
-traversability::RobotProfile robotFromArgs(const ArgParser& parser);
+traversability::RobotProfile robotFrom(const TraversabilityExportOptions& options);
+
+/// The options of `mesh --robot`: the exports, and how often to rewrite them.
+struct TraversabilitySessionOptions {
+  TraversabilityExportOptions exports;
+  std::size_t export_every = 0;  ///< keyframes between exports (0: only at the end)
+};
 /// Parses "X,Y,Z" (the --up option).
 /// @throw UsageError naming the option.
 Eigen::Vector3d parseUpVector(const std::string& text);
 
 class TraversabilitySession {
  public:
-  /// Declares --robot (which enables the session) and --export-every, plus the export options.
-  static void declareOptions(ArgParser& parser);
+  /// Adds --robot (which enables the session) and --export-every, plus the export options.
+  static void addOptions(CLI::App& app, TraversabilitySessionOptions& options);
 
   /// nullopt without --robot. Up: the profile's gravity, else estimated from every keyframe's
   /// rotation in the stream (estimateUpFromCameras). Validates everything before any output.
   /// @throw UsageError, InputError or std::invalid_argument for bad options, robot or frame.
-  static std::optional<TraversabilitySession> fromArgs(const ArgParser& parser, const datasets::SlamStream& stream,
-                                                       double metres_per_unit, std::filesystem::path output);
+  static std::optional<TraversabilitySession> fromOptions(const TraversabilitySessionOptions& options,
+                                                          const datasets::SlamStream& stream, double metres_per_unit,
+                                                          std::filesystem::path output);
 
   /// Brings the layers up to date with the mesher after one stream event (delta or, when the
   /// history is gone, a full reset), and exports every K keyframes.
   void afterEvent(const mesher::Mesher& mesher, std::size_t event_index, bool is_keyframe);
+  /// Continues a run resumed from a checkpoint after `keyframes` keyframes: the layers are rebuilt
+  /// from the mesher's surface (reset equals any sequence of deltas exactly, see
+  /// TraversabilityMap::apply), so they are those the interrupted run held.
+  void resume(const mesher::Mesher& mesher, std::size_t keyframes);
   /// Final update and export; appends a few summary lines.
   void finish(const mesher::Mesher& mesher, std::ostream& summary);
 

@@ -1,7 +1,9 @@
 // terramesh traverse MESH --robot R.yaml -o OUT: traversability layers of a finished mesh and every
 // export of the map directory (traversability.ply, Nav2 maps per level, GeoTIFF layers).
 #include <filesystem>
+#include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "cli_args.h"
 #include "commands.h"
@@ -13,32 +15,35 @@
 namespace terramesh::cli {
 
 int runTraverse(const std::vector<std::string>& args) {
-  ArgParser parser("traverse");
-  parser.positional("MESH", "mesh (.ply with the per-vertex `steiner` flag of terramesh mesh; .obj/.off: all measured)")
-      .option("--output", "DIR", "map directory to write (created if missing)")
-      .alias("-o", "--output")
-      .option("--metres-per-unit", "S", "size of one mesh unit in metres", "1")
-      .option("--up", "X,Y,Z", "up vector in the mesh frame (default: the profile's gravity, else +z)")
-      .flag("--quiet", "print nothing but errors");
-  declareTraversabilityExportOptions(parser);
-  parser.parse(args);
-  if (parser.helpRequested()) {
-    std::cout << parser.usage();
-    return kExitOk;
-  }
-  if (!parser.has("--output")) throw UsageError("traverse: -o/--output DIR is required");
-  if (!parser.has("--robot")) throw UsageError("traverse: --robot YAML is required");
-  const double metres_per_unit = parser.getDouble("--metres-per-unit");
+  CLI::App app{"traversability map of a finished mesh for a robot: PLY layers, Nav2 maps, GeoTIFF",
+               "terramesh traverse"};
+  app.option_defaults()->always_capture_default();
+  std::string mesh_file, output_dir;
+  double metres_per_unit = 1;
+  std::optional<std::string> up;
+  bool quiet = false;
+  TraversabilityExportOptions export_options;
+  app.add_option("MESH", mesh_file,
+                 "mesh (.ply with the per-vertex `steiner` flag of terramesh mesh; .obj/.off: all measured)")
+      ->required();
+  app.add_option("-o,--output", output_dir, "map directory to write (created if missing)")->option_text("DIR");
+  app.add_option("--metres-per-unit", metres_per_unit, "size of one mesh unit in metres")->check(positiveNumber());
+  app.add_option("--up", up, "up vector in the mesh frame (default: the profile's gravity, else +z)")
+      ->option_text("X,Y,Z");
+  app.add_flag("--quiet", quiet, "print nothing but errors");
+  addTraversabilityExportOptions(app, export_options);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  if (output_dir.empty()) throw UsageError("traverse: -o/--output DIR is required");
+  if (!export_options.robot) throw UsageError("traverse: --robot YAML is required");
   if (!(metres_per_unit > 0) || !std::isfinite(metres_per_unit)) {
     throw UsageError("traverse: --metres-per-unit must be > 0");
   }
-  const bool quiet = parser.flagSet("--quiet");
-  const traversability::ExportConfig config = exportConfigFromArgs(parser);
-  const traversability::RobotProfile profile = robotFromArgs(parser);
+  const traversability::ExportConfig config = exportConfigFrom(export_options);
+  const traversability::RobotProfile profile = robotFrom(export_options);
   traversability::MapFrame frame;
   frame.metres_per_unit = metres_per_unit;
-  if (parser.has("--up")) {
-    frame.up_W = parseUpVector(parser.get("--up"));
+  if (up) {
+    frame.up_W = parseUpVector(*up);
   } else if (profile.gravity_W) {
     frame.up_W = -profile.gravity_W->normalized();
   } else {
@@ -47,7 +52,7 @@ int runTraverse(const std::vector<std::string>& args) {
     frame.up_W = Eigen::Vector3d::UnitZ();
   }
   frame.validate();
-  const std::filesystem::path input = parser.positionalValue("MESH");
+  const std::filesystem::path input = mesh_file;
   const mesher::TriangleMesh mesh = mesher::readMesh(input);
 
   // Without Steiner flags every face counts as measured: it gets enough rays to be known.
@@ -55,7 +60,7 @@ int runTraverse(const std::vector<std::string>& args) {
   traversability::LayeredMesh map = traversability::TraversabilityMap::computeForMesh(mesh, profile, frame, rays_if_unknown);
   map.up_W = frame.up_W;
   map.metres_per_unit = frame.metres_per_unit;
-  const std::filesystem::path output = parser.get("--output");
+  const std::filesystem::path output = output_dir;
   const traversability::ExportReport report = traversability::writeMapDirectory(output, map, profile, config);
   if (!quiet) {
     std::cout << "input: " << input.string() << "\nrobot: " << profile.name << "\nmap directory: " << output.string()

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <variant>
 
@@ -25,23 +26,46 @@
 namespace terramesh::cli {
 namespace {
 
-void declareOptions(ArgParser& parser) {
-  parser.positional("MAP_DIR", "a map directory (traversability.ply, robot.yaml, map_frame.yaml)")
-      .option("--gt-mesh", "FILE", "ground truth: a labelled mesh (ground_truth.ply of terramesh generate)")
-      .option("--gt-up", "X,Y,Z", "with --gt-mesh: the truth's up vector (default: from its level faces)")
-      .option("--sim3", "FILE", "with --gt-mesh: map the map into the truth's frame by x' = s R x + t")
-      .option("--max-distance-m", "D", "with --gt-mesh: map surface farther than D from the truth is not scored",
-              "0.5")
-      .option("--gt-max-edge-m", "E", "with --gt-mesh: truth faces are split to edges <= E and judged each", "0.25")
-      .option("--sample-edge-m", "E", "map faces are split to edges <= E, each piece judged at its centroid",
-              "0.25")
-      .option("--road-under-path", "STREAM",
-              "real data: the map's classes on the road under the keyframe centres of STREAM (map units)")
-      .option("--camera-height-m", "H", "with --road-under-path: the road lies H below the camera", "1.65")
-      .option("--lateral-m", "L", "with --road-under-path: map surface within L of the path, horizontally", "1.5")
-      .option("--height-tolerance-m", "T", "with --road-under-path: ... and within H +- T below it", "0.5")
-      .option("--report", "FILE", "also write the report to FILE (atomically)")
-      .flag("--quiet", "print nothing but errors");
+/// The parsed command line.
+struct TraverseEvalOptions {
+  std::string map_dir;
+  std::optional<std::string> gt_mesh, gt_up, sim3, road_under_path, report;
+  double max_distance_m = 0.5;
+  double gt_max_edge_m = 0.25;
+  double sample_edge_m = 0.25;
+  double camera_height_m = 1.65;
+  double lateral_m = 1.5;
+  double height_tolerance_m = 0.5;
+  bool quiet = false;
+};
+
+void declareOptions(CLI::App& app, TraverseEvalOptions& o) {
+  const auto non_negative = nonNegativeNumber();
+  app.add_option("MAP_DIR", o.map_dir, "a map directory (traversability.ply, robot.yaml, map_frame.yaml)")->required();
+  app.add_option("--gt-mesh", o.gt_mesh, "ground truth: a labelled mesh (ground_truth.ply of terramesh generate)")
+      ->option_text("FILE");
+  app.add_option("--gt-up", o.gt_up, "with --gt-mesh: the truth's up vector (default: from its level faces)")
+      ->option_text("X,Y,Z");
+  app.add_option("--sim3", o.sim3, "with --gt-mesh: map the map into the truth's frame by x' = s R x + t")
+      ->option_text("FILE");
+  app.add_option("--max-distance-m", o.max_distance_m,
+                 "with --gt-mesh: map surface farther than D from the truth is not scored")
+      ->check(non_negative);
+  app.add_option("--gt-max-edge-m", o.gt_max_edge_m, "with --gt-mesh: truth faces are split to edges <= E and judged each")
+      ->check(non_negative);
+  app.add_option("--sample-edge-m", o.sample_edge_m, "map faces are split to edges <= E, each piece judged at its centroid")
+      ->check(non_negative);
+  app.add_option("--road-under-path", o.road_under_path,
+                 "real data: the map's classes on the road under the keyframe centres of STREAM (map units)")
+      ->option_text("STREAM");
+  app.add_option("--camera-height-m", o.camera_height_m, "with --road-under-path: the road lies H below the camera")
+      ->check(non_negative);
+  app.add_option("--lateral-m", o.lateral_m, "with --road-under-path: map surface within L of the path, horizontally")
+      ->check(non_negative);
+  app.add_option("--height-tolerance-m", o.height_tolerance_m, "with --road-under-path: ... and within H +- T below it")
+      ->check(non_negative);
+  app.add_option("--report", o.report, "also write the report to FILE (atomically)")->option_text("FILE");
+  app.add_flag("--quiet", o.quiet, "print nothing but errors");
 }
 
 std::string fixed(double value, int digits = 4) {
@@ -49,12 +73,6 @@ std::string fixed(double value, int digits = 4) {
   char text[64];
   std::snprintf(text, sizeof(text), "%.*f", digits, value);
   return text;
-}
-
-double nonNegative(const ArgParser& parser, const std::string& name) {
-  const double value = parser.getDouble(name);
-  if (!(value >= 0) || !std::isfinite(value)) throw UsageError("traverse-eval: " + name + " must be >= 0");
-  return value;
 }
 
 Eigen::Vector3d parseVector(const std::string& text, const std::string& option) {
@@ -108,27 +126,27 @@ std::vector<std::uint8_t> lethalCauses(const traversability::LayeredMesh& map,
 }
 
 /// The map against a labelled ground-truth mesh.
-void evaluateAgainstMesh(const ArgParser& parser, traversability::LayeredMesh map,
+void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::LayeredMesh map,
                          const traversability::RobotProfile& profile, std::ostream& report) {
   const evaluation::RobotLimits robot = evaluation::robotLimitsFrom(profile);
-  const std::string truth_path = parser.get("--gt-mesh");
+  const std::string& truth_path = *options.gt_mesh;
   const datasets::LabeledMesh truth = datasets::readLabeledPly(truth_path);
   if (truth.mesh.faces.empty()) throw InputError(truth_path, "faces", "the ground truth has no faces");
-  if (parser.has("--sim3")) {
-    map.mesh = datasets::readSimilarityTransform(parser.get("--sim3")).apply(map.mesh);
+  if (options.sim3) {
+    map.mesh = datasets::readSimilarityTransform(*options.sim3).apply(map.mesh);
   } else if (std::abs(map.metres_per_unit - 1.0) > 1e-9) {
     throw UsageError("traverse-eval: the map is not metric (metres_per_unit " + fixed(map.metres_per_unit, 6) +
                      "); give --sim3 FILE to bring it into the truth's frame");
   }
-  const Eigen::Vector3d up = parser.has("--gt-up") ? parseVector(parser.get("--gt-up"), "--gt-up")
-                                                  : evaluation::estimateUpFromSlopes(truth);
+  const Eigen::Vector3d up =
+      options.gt_up ? parseVector(*options.gt_up, "--gt-up") : evaluation::estimateUpFromSlopes(truth);
   evaluation::GroundTruthConfig truth_config;
-  truth_config.max_edge_m = nonNegative(parser, "--gt-max-edge-m");
+  truth_config.max_edge_m = options.gt_max_edge_m;
   const evaluation::GroundTruthTraversability labelled =
       evaluation::labelTraversability(truth, robot, up, truth_config);
   evaluation::ScoreConfig config;
-  config.max_distance_m = nonNegative(parser, "--max-distance-m");
-  config.sample_edge_m = nonNegative(parser, "--sample-edge-m");
+  config.max_distance_m = options.max_distance_m;
+  config.sample_edge_m = options.sample_edge_m;
   const evaluation::TraversabilityScore score =
       evaluation::scoreTraversability(map, labelled, config, lethalCauses(map, profile));
 
@@ -197,8 +215,9 @@ void keyframePath(const datasets::SlamStream& stream, std::vector<Eigen::Vector3
 }
 
 /// The map's classes on the road under the camera path (real data).
-void evaluateRoadUnderPath(const ArgParser& parser, const traversability::LayeredMesh& map, std::ostream& report) {
-  const std::string stream_path = parser.get("--road-under-path");
+void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversability::LayeredMesh& map,
+                           std::ostream& report) {
+  const std::string& stream_path = *options.road_under_path;
   const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Quaterniond> rotations;
@@ -206,10 +225,10 @@ void evaluateRoadUnderPath(const ArgParser& parser, const traversability::Layere
   if (positions.size() < 2) throw InputError(stream_path, "keyframes", "at least 2 keyframes are needed for a path");
   const Eigen::Vector3d up = evaluation::upFromCameraRotations(rotations);
   evaluation::RoadUnderPathConfig config;
-  config.camera_height_m = nonNegative(parser, "--camera-height-m");
-  config.lateral_m = nonNegative(parser, "--lateral-m");
-  config.height_tolerance_m = nonNegative(parser, "--height-tolerance-m");
-  config.sample_edge_m = nonNegative(parser, "--sample-edge-m");
+  config.camera_height_m = options.camera_height_m;
+  config.lateral_m = options.lateral_m;
+  config.height_tolerance_m = options.height_tolerance_m;
+  config.sample_edge_m = options.sample_edge_m;
   const evaluation::RoadUnderPath road = evaluation::roadUnderPath(map, positions, up, config);
   report << "path " << stream_path << '\n'
          << "path_keyframes " << positions.size() << '\n'
@@ -228,12 +247,11 @@ void evaluateRoadUnderPath(const ArgParser& parser, const traversability::Layere
 }  // namespace
 
 int runTraverseEval(const std::vector<std::string>& args) {
-  ArgParser parser("traverse-eval");
-  declareOptions(parser);
-  parser.parse(args);
-  if (parser.helpRequested()) {
-    std::cout << parser.usage()
-              << "\nWith --gt-mesh: every face of the truth is judged traversable or not for the map's robot "
+  CLI::App app{"traversability map against per-robot ground truth (precision, recall, F1) or the road under a path",
+               "terramesh traverse-eval"};
+  app.option_defaults()->always_capture_default();
+  app.footer(
+      "With --gt-mesh: every face of the truth is judged traversable or not for the map's robot "
                  "(robot.yaml) from the truth alone: a ground label (road, sidewalk, ramp, vegetation; curbs "
                  "only within the robot's step), true slope <= max slope, nothing rising more than the max step "
                  "(below the robot's height) within the footprint radius, clearance >= the robot's height. "
@@ -242,14 +260,15 @@ int runTraverseEval(const std::vector<std::string>& args) {
                  "the truth's traversable area with a known map face within --max-distance-m.\n"
                  "With --road-under-path: the free / lethal / unknown shares of the map surface within "
                  "--lateral-m of the keyframe path and --camera-height-m below it (metres via the map's "
-                 "metres_per_unit; up from the keyframes' orientations).\n";
-    return kExitOk;
-  }
-  const bool truth_mode = parser.has("--gt-mesh");
-  if (truth_mode == parser.has("--road-under-path")) {
+                 "metres_per_unit; up from the keyframes' orientations).");
+  TraverseEvalOptions options;
+  declareOptions(app, options);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  const bool truth_mode = options.gt_mesh.has_value();
+  if (truth_mode == options.road_under_path.has_value()) {
     throw UsageError("traverse-eval: give exactly one of --gt-mesh and --road-under-path");
   }
-  const std::filesystem::path dir = parser.positionalValue("MAP_DIR");
+  const std::filesystem::path dir = options.map_dir;
   traversability::MapDirectory loaded = traversability::readMapDirectory(dir);
   const evaluation::RobotLimits robot = evaluation::robotLimitsFrom(loaded.profile);
 
@@ -257,12 +276,12 @@ int runTraverseEval(const std::vector<std::string>& args) {
   report << "map " << dir.string() << '\n' << "map_faces " << loaded.map.mesh.faces.size() << '\n';
   reportRobot(report, robot);
   if (truth_mode) {
-    evaluateAgainstMesh(parser, std::move(loaded.map), loaded.profile, report);
+    evaluateAgainstMesh(options, std::move(loaded.map), loaded.profile, report);
   } else {
-    evaluateRoadUnderPath(parser, loaded.map, report);
+    evaluateRoadUnderPath(options, loaded.map, report);
   }
-  if (parser.has("--report")) writeFileAtomically(parser.get("--report"), report.str());
-  if (!parser.flagSet("--quiet")) std::cout << report.str();
+  if (options.report) writeFileAtomically(*options.report, report.str());
+  if (!options.quiet) std::cout << report.str();
   return kExitOk;
 }
 

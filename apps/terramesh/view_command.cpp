@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -28,9 +29,9 @@ namespace fs = std::filesystem;
 
 /// --bundle, else the installed bundle beside the executable (bin/../share/...), else the build
 /// tree's. Empty if none holds index.html.
-fs::path findBundle(const ArgParser& parser) {
-  if (parser.has("--bundle")) {
-    const fs::path dir = parser.get("--bundle");
+fs::path findBundle(const std::optional<std::string>& bundle) {
+  if (bundle) {
+    const fs::path dir = *bundle;
     if (!fs::is_regular_file(dir / "index.html")) throw InputError(dir.string(), "index.html", "missing (expected a viewer bundle: build/viewer/dist)");
     return dir;
   }
@@ -46,8 +47,8 @@ fs::path findBundle(const ArgParser& parser) {
 }
 
 /// The stream named by --stream, else by summary.txt's "input:" line if that path exists.
-fs::path findStream(const ArgParser& parser, const fs::path& run_dir) {
-  if (parser.has("--stream")) return parser.get("--stream");
+fs::path findStream(const std::optional<std::string>& stream, const fs::path& run_dir) {
+  if (stream) return *stream;
   std::ifstream summary(run_dir / "summary.txt");
   std::string line;
   while (std::getline(summary, line)) {
@@ -73,30 +74,33 @@ fs::path findOctomap(const fs::path& run_dir) {
 }  // namespace
 
 int runView(const std::vector<std::string>& args) {
-  ArgParser parser("view");
-  parser.positional("OUTDIR", "a run folder of `terramesh mesh` (mesh.ply; traversability.ply, snapshots/, "
-                              "path*.csv, voxels.bin or *.bt when present)")
-      .option("--port", "N", "TCP port on 127.0.0.1 (0: any free port)", "8765")
-      .option("--stream", "FILE",
-              "the run's SLAM stream, for the trajectory and points when OUTDIR has no trajectory.csv / "
-              "points.ply (default: summary.txt's input, if it exists)")
-      .option("--bundle", "DIR", "the viewer bundle (default: the installed one, else the build tree's)")
-      .flag("--open", "also open the page with xdg-open (off by default: headless machines)");
-  parser.parse(args);
-  if (parser.helpRequested()) {
-    std::cout << parser.usage();
-    return kExitOk;
-  }
-  const long port = parser.getInt("--port");
-  if (port < 0 || port > 65535) throw UsageError("view: --port must be in 0..65535");
+  CLI::App app{"serve a run folder's web viewer on 127.0.0.1", "terramesh view"};
+  app.option_defaults()->always_capture_default();
+  std::string run_dir;
+  int port = 8765;
+  std::optional<std::string> stream_file, bundle;
+  bool open = false;
+  app.add_option("OUTDIR", run_dir,
+                 "a run folder of `terramesh mesh` (mesh.ply; traversability.ply, snapshots/, path*.csv, "
+                 "voxels.bin or *.bt when present)")
+      ->required();
+  app.add_option("--port", port, "TCP port on 127.0.0.1 (0: any free port)")->check(CLI::Range(0, 65535));
+  app.add_option("--stream", stream_file,
+                 "the run's SLAM stream, for the trajectory and points when OUTDIR has no trajectory.csv / "
+                 "points.ply (default: summary.txt's input, if it exists)")
+      ->option_text("FILE");
+  app.add_option("--bundle", bundle, "the viewer bundle (default: the installed one, else the build tree's)")
+      ->option_text("DIR");
+  app.add_flag("--open", open, "also open the page with xdg-open (off by default: headless machines)");
+  if (!parseCommandLine(app, args)) return kExitOk;
   ViewServerConfig config;
-  config.run_dir = parser.positionalValue("OUTDIR");
-  config.port = static_cast<int>(port);
+  config.run_dir = run_dir;
+  config.port = port;
   if (!fs::is_directory(config.run_dir)) throw InputError(config.run_dir.string(), "OUTDIR", "not a directory (expected a run folder of terramesh mesh)");
   if (!fs::is_regular_file(config.run_dir / "mesh.ply")) {
     throw InputError((config.run_dir / "mesh.ply").string(), "file", "missing (expected the run's mesh: terramesh mesh STREAM -o OUTDIR)");
   }
-  config.bundle_dir = findBundle(parser);
+  config.bundle_dir = findBundle(bundle);
   if (config.bundle_dir.empty()) {
     std::cerr << "terramesh view: no viewer bundle found (configured with TERRAMESH_BUILD_VIEWER=OFF, or npm was "
                  "missing at build time); pass --bundle DIR\n";
@@ -107,7 +111,7 @@ int runView(const std::vector<std::string>& args) {
   const bool has_trajectory = fs::is_regular_file(config.run_dir / "trajectory.csv");
   const bool has_points = fs::is_regular_file(config.run_dir / "points.ply");
   if (!has_trajectory || !has_points) {
-    const fs::path stream_path = findStream(parser, config.run_dir);
+    const fs::path stream_path = findStream(stream_file, config.run_dir);
     if (!stream_path.empty()) {
       const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
       if (!has_trajectory) extras.trajectory_csv = trajectoryCsv(stream);
@@ -122,7 +126,6 @@ int runView(const std::vector<std::string>& args) {
     }
   }
 
-  const bool open = parser.flagSet("--open");
   serveRun(config, extras, [&](int bound_port) {
     const std::string url = "http://127.0.0.1:" + std::to_string(bound_port) + "/";
     std::cout << "terramesh view: serving " << config.run_dir.string() << " at " << url << "  (Ctrl-C to stop)"

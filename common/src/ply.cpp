@@ -19,6 +19,9 @@ namespace terramesh::ply {
 namespace {
 
 constexpr bool kHostLittleEndian = __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__;
+// Items reserved up front at most: a header's count is untrusted, so a corrupt count ends in
+// "file truncated" rather than in a huge allocation; larger elements grow as they are read.
+constexpr std::size_t kMaxReservedItems = std::size_t{1} << 20;
 
 bool isFloat(Type type) { return type == Type::kFloat32 || type == Type::kFloat64; }
 
@@ -92,7 +95,7 @@ void encode(Type type, double value, unsigned char* bytes) {
 
 class Reader {
  public:
-  Reader(std::istream& in, std::string file) : in_(in), file_(std::move(file)) {}
+  Reader(std::istream& in, std::string file, const ItemCheck& check) : in_(in), file_(std::move(file)), check_(check) {}
 
   Document read() {
     readHeader();
@@ -170,20 +173,26 @@ class Reader {
     if (!have_format) fail("header", "missing \"format\" line");
   }
 
-  double readValue(Type type, const std::string& where) {
+  /// "face 12": where item `item` of `element` is, for messages (built only on failure).
+  static std::string itemLocation(const Element& element, std::size_t item) {
+    return element.name + " " + std::to_string(item);
+  }
+
+  double readValue(Type type, const Element& element, std::size_t item) {
     if (document_.format == Format::kAscii) {
-      std::string token;
-      if (!(in_ >> token)) fail(where, "expected a number, the file ends early");
-      const char* begin = token.c_str();
+      if (!(in_ >> token_)) fail(itemLocation(element, item), "expected a number, the file ends early");
+      const char* begin = token_.c_str();
       char* end = nullptr;
       const double value = std::strtod(begin, &end);
-      if (end == begin || *end != '\0') fail(where, "expected a number, got \"" + token + "\"");
+      if (end == begin || *end != '\0') {
+        fail(itemLocation(element, item), "expected a number, got \"" + token_ + "\"");
+      }
       return value;
     }
     unsigned char bytes[8];
     const std::size_t size = sizeOf(type);
     if (!in_.read(reinterpret_cast<char*>(bytes), static_cast<std::streamsize>(size))) {
-      fail(where, "file truncated");
+      fail(itemLocation(element, item), "file truncated");
     }
     const bool little = document_.format == Format::kBinaryLittleEndian;
     if (little != kHostLittleEndian) std::reverse(bytes, bytes + size);
@@ -191,37 +200,41 @@ class Reader {
   }
 
   void readElement(Element& element) {
+    // No properties, no bytes: a huge count must not become a loop that reads nothing.
+    if (element.properties.empty()) return;
     for (Property& property : element.properties) {
       if (property.isList()) {
-        property.list_offsets.reserve(element.count + 1);
+        property.list_offsets.reserve(std::min(element.count, kMaxReservedItems) + 1);
         property.list_offsets.push_back(0);
-        property.values.reserve(element.count * 3);
+        property.values.reserve(std::min(element.count, kMaxReservedItems) * 3);
       } else {
-        property.values.reserve(element.count);
+        property.values.reserve(std::min(element.count, kMaxReservedItems));
       }
     }
     for (std::size_t i = 0; i < element.count; ++i) {
-      const std::string where = element.name + " " + std::to_string(i);
       for (Property& property : element.properties) {
         if (!property.isList()) {
-          property.values.push_back(readValue(property.type, where));
+          property.values.push_back(readValue(property.type, element, i));
           continue;
         }
-        const double count = readValue(*property.list_count_type, where);
+        const double count = readValue(*property.list_count_type, element, i);
         if (!(count >= 0) || count != std::floor(count)) {
-          fail(where, "list \"" + property.name + "\" has an invalid count");
+          fail(itemLocation(element, i), "list \"" + property.name + "\" has an invalid count");
         }
         for (std::size_t k = 0; k < static_cast<std::size_t>(count); ++k) {
-          property.values.push_back(readValue(property.type, where));
+          property.values.push_back(readValue(property.type, element, i));
         }
         property.list_offsets.push_back(property.values.size());
       }
+      if (check_) check_(element, i);
     }
   }
 
   std::istream& in_;
   std::string file_;
+  const ItemCheck& check_;
   Document document_;
+  std::string token_;  ///< ascii: the number being parsed (reused)
 };
 
 void checkCounts(const Document& document) {
@@ -337,12 +350,14 @@ Element& Document::addElement(const std::string& element_name, std::size_t count
   return elements.back();
 }
 
-Document read(std::istream& in, const std::string& file_name) { return Reader(in, file_name).read(); }
+Document read(std::istream& in, const std::string& file_name, const ItemCheck& check) {
+  return Reader(in, file_name, check).read();
+}
 
-Document read(const std::filesystem::path& path) {
+Document read(const std::filesystem::path& path, const ItemCheck& check) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "", "cannot open file for reading");
-  return read(in, path.string());
+  return read(in, path.string(), check);
 }
 
 void write(std::ostream& out, const Document& document, Format format) {

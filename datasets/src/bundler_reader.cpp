@@ -1,6 +1,7 @@
 #include "datasets/bundler_reader.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -111,6 +112,15 @@ SlamStream readBundler(const std::filesystem::path& bundle_path,
   in.setRecord("header");
   const std::uint64_t camera_count = in.integer("number of cameras");
   const std::uint64_t point_count = in.integer("number of points");
+  // Refuse counts the file cannot hold before allocating for them: a camera is 15 numbers and a
+  // point at least 7, each one character and a separator at the least.
+  std::error_code size_error;
+  const std::uintmax_t file_bytes = std::filesystem::file_size(bundle_path, size_error);
+  if (!size_error && (camera_count > file_bytes / 30 || point_count > file_bytes / 14)) {
+    in.fail(std::to_string(camera_count) + " cameras and " + std::to_string(point_count) +
+            " points cannot fit in the file's " + std::to_string(file_bytes) +
+            " bytes: wrong count or truncated file");
+  }
   const std::vector<std::string> names =
       list.empty() ? std::vector<std::string>() : readImageList(list);
   if (!list.empty() && names.size() != camera_count) {

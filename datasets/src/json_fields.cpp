@@ -36,6 +36,10 @@ json readJsonFile(const std::filesystem::path& path, const std::string& expected
   } catch (const json::parse_error& error) {
     throw InputError(path.string(), lineAndColumn(text, error.byte),
                      "malformed JSON (expected " + expected + ")");
+  } catch (const json::out_of_range& error) {
+    // A number too large for a double (1e999): nlohmann names the token, not where it is.
+    throw InputError(path.string(), "",
+                     std::string("number out of range (") + error.what() + "; expected " + expected + ")");
   }
 }
 

@@ -39,6 +39,21 @@ class StreamFileParser {
         stream.metres_per_unit = lines_.real(tokens[1], "metres_per_unit");
         if (!(stream.metres_per_unit > 0)) lines_.fail("metres_per_unit must be positive");
         stream.scale_known = true;
+      } else if (directive == "max_camera_distance") {
+        lines_.expectCount(tokens, 2, "max_camera_distance auto");
+        if (tokens[1] != "auto") lines_.fail("max_camera_distance must be \"auto\"");
+        stream.recommend_auto_max_distance = true;
+      } else if (directive == "min_views") {
+        lines_.expectCount(tokens, 2, "min_views N");
+        const std::uint64_t views = lines_.integer(tokens[1], "min_views");
+        if (views < 1 || views > 1000) lines_.fail("min_views must be within 1..1000");
+        stream.recommended_min_views = static_cast<int>(views);
+      } else if (directive == "sensor_up") {
+        lines_.expectCount(tokens, 4, "sensor_up X Y Z");
+        Eigen::Vector3d up;
+        for (int k = 0; k < 3; ++k) up[k] = lines_.real(tokens[1 + static_cast<std::size_t>(k)], "sensor_up");
+        if (!(up.norm() > 0)) lines_.fail("sensor_up must be a non-zero vector");
+        stream.sensor_up_S = up.normalized();
       } else if (directive == "description") {
         const std::string& line = lines_.line();
         const std::size_t start = line.find("description") + std::string_view("description").size();
@@ -59,8 +74,8 @@ class StreamFileParser {
         stream.events.emplace_back(KeyframeRemoval{{lines_.integer(tokens[1], "keyframe id")}});
       } else {
         lines_.fail("unknown record \"" + std::string(directive) +
-                    "\" (expected keyframe, remove_points, remove_keyframe, metres_per_unit or "
-                    "description)");
+                    "\" (expected keyframe, remove_points, remove_keyframe, metres_per_unit, "
+                    "max_camera_distance, min_views, sensor_up or description)");
       }
     }
     return stream;
@@ -139,6 +154,17 @@ void writeStreamFile(const std::filesystem::path& path, const SlamStream& stream
     if (stream.scale_known) {
       out << "metres_per_unit ";
       writeReal(out, stream.metres_per_unit);
+      out << '\n';
+    }
+    // What the source advises for meshing, so that meshing the saved stream repeats the run.
+    if (stream.recommend_auto_max_distance) out << "max_camera_distance auto\n";
+    if (stream.recommended_min_views > 0) out << "min_views " << stream.recommended_min_views << '\n';
+    if (stream.sensor_up_S != -Eigen::Vector3d::UnitY()) {
+      out << "sensor_up";
+      for (int k = 0; k < 3; ++k) {
+        out << ' ';
+        writeReal(out, stream.sensor_up_S[k]);
+      }
       out << '\n';
     }
     for (const StreamEvent& event : stream.events) {

@@ -6,14 +6,14 @@ namespace terramesh::mesher::internal {
 
 void BoundaryHash::insert(VertexHandle v, const GridKey& key) {
   assert(v->info().hash_slot == kNone);
-  std::vector<VertexHandle>& vertices = buckets_[effectiveKey(key)];
+  std::vector<VertexHandle>& vertices = buckets_[key];
   v->info().hash_slot = static_cast<std::uint32_t>(vertices.size());
   vertices.push_back(v);
   ++size_;
 }
 
 void BoundaryHash::erase(VertexHandle v, const GridKey& key) {
-  const auto it = buckets_.find(effectiveKey(key));
+  const auto it = buckets_.find(key);
   assert(it != buckets_.end());
   std::vector<VertexHandle>& vertices = it->second;
   const std::uint32_t slot = v->info().hash_slot;
@@ -27,7 +27,7 @@ void BoundaryHash::erase(VertexHandle v, const GridKey& key) {
 }
 
 const std::vector<VertexHandle>* BoundaryHash::bucket(const GridKey& key) const {
-  const auto it = buckets_.find(effectiveKey(key));
+  const auto it = buckets_.find(key);
   return it == buckets_.end() ? nullptr : &it->second;
 }
 

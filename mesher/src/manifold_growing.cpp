@@ -58,11 +58,8 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
     if (adjacentToOutside(c.cell)) push(c.cell);
   }
   if (region != nullptr) {
-    for (const GridKey& key : *region) {
-      const std::vector<VertexHandle>* bucket = state_.hash.bucket(key);
-      if (bucket == nullptr) continue;
-      for (const VertexHandle& v : *bucket) scanVertex(v);
-    }
+    stats.boundary_vertices_examined +=
+        state_.hash.forEachVertexIn(*region, [this](const VertexHandle& v) { scanVertex(v); });
   } else {
     state_.hash.forEachVertex([this](const VertexHandle& v) { scanVertex(v); });
   }
@@ -94,6 +91,7 @@ void Grower::edgePass(UpdateStats& stats) {
         for (const CellHandle& h : ring) {
           state_.outside.add(h);
           ++stats.cells_grown;
+          ++stats.edge_pass_cells;
         }
         for (const CellHandle& h : ring) pushFreeNeighbours(h);
         drainQueue(stats);

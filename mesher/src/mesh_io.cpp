@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -10,235 +9,68 @@
 
 #include "common/atomic_file.h"
 #include "common/input_error.h"
+#include "common/ply.h"
 
 namespace terramesh::mesher {
 namespace {
 
-template <class T>
-void writeLittleEndian(std::ostream& out, T value) {
-  static_assert(std::is_arithmetic_v<T>);
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  out.write(bytes, sizeof(T));  // x86-64 and aarch64 are little-endian
+/// The vertex index list of a PLY face element (`vertex_indices` or `vertex_index`).
+/// @throw InputError if there is none.
+const ply::Property& faceIndices(const std::string& file, const ply::Element& faces) {
+  const ply::Property* indices = faces.find("vertex_indices");
+  if (!indices) indices = faces.find("vertex_index");
+  if (!indices || !indices->isList()) throw InputError(file, "element face", "missing vertex_indices list");
+  return *indices;
 }
 
-// ---- PLY reading -------------------------------------------------------------------------
-
-enum class PlyFormat { kAscii, kBinaryLittle, kBinaryBig };
-
-struct PlyProperty {
-  std::string name;
-  std::string type;         // scalar type, or the item type of a list
-  std::string count_type;   // empty unless a list
-};
-
-struct PlyElement {
-  std::string name;
-  std::size_t count = 0;
-  std::vector<PlyProperty> properties;
-};
-
-std::size_t plyTypeSize(const std::string& type) {
-  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
-      type == "float32")
-    return 4;
-  if (type == "double" || type == "float64") return 8;
-  return 0;
+/// Checks face `f` as soon as it is read: a triangle of existing vertices.
+void checkFace(const std::string& file, const ply::Property& indices, std::size_t f, std::size_t vertex_count) {
+  const std::string where = "face " + std::to_string(f);
+  if (indices.listSize(f) != 3) {
+    throw InputError(file, where, "expected a triangle, got " + std::to_string(indices.listSize(f)) + " vertices");
+  }
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double index = indices.values[indices.list_offsets[f] + k];
+    if (!(index >= 0 && index < static_cast<double>(vertex_count))) {
+      throw InputError(file, where, "vertex index " + std::to_string(index) + " out of range (" +
+                                        std::to_string(vertex_count) + " vertices)");
+    }
+  }
 }
 
-class PlyReader {
- public:
-  PlyReader(std::string file, std::istream& in) : file_(std::move(file)), in_(in) {}
-
-  TriangleMesh read() {
-    readHeader();
-    TriangleMesh mesh;
-    for (const PlyElement& element : elements_) {
-      if (element.name == "vertex") {
-        readVertices(element, mesh);
-      } else if (element.name == "face") {
-        readFaces(element, mesh);
-      } else {
-        skipElement(element);
-      }
+TriangleMesh readPly(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::size_t vertex_count = 0;
+  const ply::Document document = ply::read(path, [&](const ply::Element& element, std::size_t i) {
+    if (element.name == "vertex") vertex_count = i + 1;
+    if (element.name == "face") checkFace(file, faceIndices(file, element), i, vertex_count);
+  });
+  TriangleMesh mesh;
+  if (const ply::Element* vertices = document.find("vertex")) {
+    const ply::Property* x = vertices->find("x");
+    const ply::Property* y = vertices->find("y");
+    const ply::Property* z = vertices->find("z");
+    if (!x || !y || !z || x->isList() || y->isList() || z->isList()) {
+      throw InputError(file, "element vertex", "missing x, y or z property");
     }
-    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-      for (std::uint32_t index : mesh.faces[f]) {
-        if (index >= mesh.vertices.size()) {
-          fail("face " + std::to_string(f), "vertex index " + std::to_string(index) +
-                                                 " out of range (" +
-                                                 std::to_string(mesh.vertices.size()) + " vertices)");
-        }
-      }
-    }
-    return mesh;
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& where, const std::string& problem) const {
-    throw InputError(file_, where, problem);
-  }
-
-  void readHeader() {
-    std::string line;
-    std::size_t line_number = 0;
-    auto next = [&]() {
-      if (!std::getline(in_, line)) fail(lineLocation(line_number + 1), "PLY header ends early");
-      ++line_number;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-    };
-    next();
-    if (line != "ply") fail("line 1", "expected \"ply\"");
-    bool have_format = false;
-    while (true) {
-      next();
-      std::istringstream words(line);
-      std::string keyword;
-      words >> keyword;
-      if (keyword == "end_header") break;
-      if (keyword == "format") {
-        std::string format;
-        words >> format;
-        if (format == "ascii") format_ = PlyFormat::kAscii;
-        else if (format == "binary_little_endian") format_ = PlyFormat::kBinaryLittle;
-        else if (format == "binary_big_endian") format_ = PlyFormat::kBinaryBig;
-        else fail(lineLocation(line_number), "unknown PLY format \"" + format + "\"");
-        have_format = true;
-      } else if (keyword == "element") {
-        PlyElement element;
-        if (!(words >> element.name >> element.count)) {
-          fail(lineLocation(line_number), "expected \"element NAME COUNT\"");
-        }
-        elements_.push_back(element);
-      } else if (keyword == "property") {
-        if (elements_.empty()) fail(lineLocation(line_number), "property before any element");
-        PlyProperty property;
-        std::string type;
-        words >> type;
-        if (type == "list") {
-          words >> property.count_type >> property.type >> property.name;
-          if (plyTypeSize(property.count_type) == 0 || plyTypeSize(property.type) == 0) {
-            fail(lineLocation(line_number), "unknown list type");
-          }
-        } else {
-          property.type = type;
-          words >> property.name;
-          if (plyTypeSize(type) == 0) fail(lineLocation(line_number), "unknown type \"" + type + "\"");
-        }
-        elements_.back().properties.push_back(property);
-      } else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty()) {
-        fail(lineLocation(line_number), "unexpected header line \"" + line + "\"");
-      }
-    }
-    if (!have_format) fail("header", "missing format line");
-  }
-
-  double readScalar(const std::string& type, const std::string& where) {
-    if (format_ == PlyFormat::kAscii) {
-      double value = 0;
-      if (!(in_ >> value)) fail(where, "expected a number (file truncated or malformed)");
-      return value;
-    }
-    const std::size_t size = plyTypeSize(type);
-    unsigned char bytes[8];
-    if (!in_.read(reinterpret_cast<char*>(bytes), static_cast<std::streamsize>(size))) {
-      fail(where, "file truncated");
-    }
-    if (format_ == PlyFormat::kBinaryBig) std::reverse(bytes, bytes + size);
-    auto as = [&bytes](auto zero) {
-      decltype(zero) value;
-      std::memcpy(&value, bytes, sizeof(value));
-      return static_cast<double>(value);
-    };
-    if (type == "char" || type == "int8") return as(std::int8_t{});
-    if (type == "uchar" || type == "uint8") return as(std::uint8_t{});
-    if (type == "short" || type == "int16") return as(std::int16_t{});
-    if (type == "ushort" || type == "uint16") return as(std::uint16_t{});
-    if (type == "int" || type == "int32") return as(std::int32_t{});
-    if (type == "uint" || type == "uint32") return as(std::uint32_t{});
-    if (type == "float" || type == "float32") return as(float{});
-    return as(double{});
-  }
-
-  void readVertices(const PlyElement& element, TriangleMesh& mesh) {
-    int x = -1, y = -1, z = -1, steiner = -1;
-    for (std::size_t p = 0; p < element.properties.size(); ++p) {
-      const std::string& name = element.properties[p].name;
-      if (name == "x") x = static_cast<int>(p);
-      if (name == "y") y = static_cast<int>(p);
-      if (name == "z") z = static_cast<int>(p);
-      if (name == "steiner") steiner = static_cast<int>(p);
-    }
-    if (x < 0 || y < 0 || z < 0) fail("element vertex", "missing x, y or z property");
-    mesh.vertices.resize(element.count);
-    if (steiner >= 0) mesh.is_steiner.resize(element.count);
-    std::vector<double> values(element.properties.size());
-    for (std::size_t i = 0; i < element.count; ++i) {
-      const std::string where = "vertex " + std::to_string(i);
-      for (std::size_t p = 0; p < element.properties.size(); ++p) {
-        if (!element.properties[p].count_type.empty()) {
-          skipList(element.properties[p], where);
-          continue;
-        }
-        values[p] = readScalar(element.properties[p].type, where);
-      }
-      mesh.vertices[i] = {values[static_cast<std::size_t>(x)], values[static_cast<std::size_t>(y)],
-                          values[static_cast<std::size_t>(z)]};
-      if (steiner >= 0) mesh.is_steiner[i] = values[static_cast<std::size_t>(steiner)] != 0;
+    mesh.vertices.resize(vertices->count);
+    for (std::size_t i = 0; i < vertices->count; ++i) mesh.vertices[i] = {x->values[i], y->values[i], z->values[i]};
+    if (const ply::Property* steiner = vertices->find("steiner"); steiner && !steiner->isList()) {
+      mesh.is_steiner.resize(vertices->count);
+      for (std::size_t i = 0; i < vertices->count; ++i) mesh.is_steiner[i] = steiner->values[i] != 0;
     }
   }
-
-  void readFaces(const PlyElement& element, TriangleMesh& mesh) {
-    mesh.faces.reserve(element.count);
-    for (std::size_t i = 0; i < element.count; ++i) {
-      const std::string where = "face " + std::to_string(i);
-      bool found = false;
-      for (const PlyProperty& property : element.properties) {
-        if (property.count_type.empty()) {
-          readScalar(property.type, where);
-          continue;
-        }
-        const double count = readScalar(property.count_type, where);
-        if (property.name != "vertex_indices" && property.name != "vertex_index") {
-          for (int k = 0; k < static_cast<int>(count); ++k) readScalar(property.type, where);
-          continue;
-        }
-        if (count != 3) fail(where, "expected a triangle, got " + std::to_string(count) + " vertices");
-        std::array<std::uint32_t, 3> face{};
-        for (std::size_t k = 0; k < 3; ++k) {
-          const double index = readScalar(property.type, where);
-          if (index < 0) fail(where, "negative vertex index");
-          face[k] = static_cast<std::uint32_t>(index);
-        }
-        mesh.faces.push_back(face);
-        found = true;
-      }
-      if (!found) fail("element face", "missing vertex_indices list");
-    }
-  }
-
-  void skipList(const PlyProperty& property, const std::string& where) {
-    const double count = readScalar(property.count_type, where);
-    for (int k = 0; k < static_cast<int>(count); ++k) readScalar(property.type, where);
-  }
-
-  void skipElement(const PlyElement& element) {
-    for (std::size_t i = 0; i < element.count; ++i) {
-      const std::string where = element.name + " " + std::to_string(i);
-      for (const PlyProperty& property : element.properties) {
-        if (property.count_type.empty()) readScalar(property.type, where);
-        else skipList(property, where);
+  if (const ply::Element* faces = document.find("face")) {
+    const ply::Property& indices = faceIndices(file, *faces);
+    mesh.faces.resize(faces->count);
+    for (std::size_t f = 0; f < faces->count; ++f) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        mesh.faces[f][k] = static_cast<std::uint32_t>(indices.values[indices.list_offsets[f] + k]);
       }
     }
   }
-
-  std::string file_;
-  std::istream& in_;
-  PlyFormat format_ = PlyFormat::kAscii;
-  std::vector<PlyElement> elements_;
-};
+  return mesh;
+}
 
 TriangleMesh readOff(const std::string& file, std::istream& in) {
   std::string magic;
@@ -249,12 +81,15 @@ TriangleMesh readOff(const std::string& file, std::istream& in) {
     throw InputError(file, "header", "expected vertex, face and edge counts");
   }
   TriangleMesh mesh;
-  mesh.vertices.resize(vertex_count);
+  // The header's count is untrusted: grow with the vertices actually read, so that a corrupt
+  // count fails as a truncated file instead of allocating it.
+  mesh.vertices.reserve(std::min<std::size_t>(vertex_count, std::size_t{1} << 20));
   for (std::size_t i = 0; i < vertex_count; ++i) {
-    auto& v = mesh.vertices[i];
+    Eigen::Vector3d v;
     if (!(in >> v.x() >> v.y() >> v.z())) {
       throw InputError(file, "vertex " + std::to_string(i), "expected three coordinates");
     }
+    mesh.vertices.push_back(v);
   }
   for (std::size_t f = 0; f < face_count; ++f) {
     std::size_t count = 0;
@@ -316,26 +151,44 @@ std::string lowerExtension(const std::filesystem::path& path) {
   return extension;
 }
 
+/// Refuses a non-finite coordinate (NaN or infinity), naming the vertex: no consumer of a mesh can
+/// place it, and it would poison every layer computed near it.
+TriangleMesh requireFiniteVertices(const std::string& file, TriangleMesh mesh) {
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (!mesh.vertices[i].allFinite()) {
+      throw InputError(file, "vertex " + std::to_string(i), "expected finite x, y and z coordinates");
+    }
+  }
+  return mesh;
+}
+
 }  // namespace
 
 void writePly(const std::filesystem::path& path, const TriangleMesh& mesh) {
   const bool have_flags = mesh.is_steiner.size() == mesh.vertices.size();
-  writeFileAtomically(path, [&](std::ostream& out) {
-    out << "ply\nformat binary_little_endian 1.0\ncomment terramesh manifold mesh\n"
-        << "element vertex " << mesh.vertices.size() << '\n'
-        << "property double x\nproperty double y\nproperty double z\n"
-        << "property uchar steiner\n"
-        << "element face " << mesh.faces.size() << '\n'
-        << "property list uchar uint vertex_indices\nend_header\n";
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-      for (int k = 0; k < 3; ++k) writeLittleEndian(out, mesh.vertices[i][k]);
-      writeLittleEndian<std::uint8_t>(out, have_flags && mesh.is_steiner[i] ? 1 : 0);
-    }
-    for (const auto& face : mesh.faces) {
-      writeLittleEndian<std::uint8_t>(out, 3);
-      for (std::uint32_t index : face) writeLittleEndian(out, index);
-    }
-  });
+  ply::Document document;
+  document.comments.push_back("terramesh manifold mesh");
+  ply::Element& vertices = document.addElement("vertex", mesh.vertices.size());
+  for (int k = 0; k < 3; ++k) {
+    ply::Property& coordinate = vertices.addScalar(std::string(1, "xyz"[k]), ply::Type::kFloat64);
+    coordinate.values.reserve(mesh.vertices.size());
+    for (const Eigen::Vector3d& v : mesh.vertices) coordinate.values.push_back(v[k]);
+  }
+  ply::Property& steiner = vertices.addScalar("steiner", ply::Type::kUInt8);
+  steiner.values.resize(mesh.vertices.size(), 0.0);
+  if (have_flags) {
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) steiner.values[i] = mesh.is_steiner[i] ? 1 : 0;
+  }
+  ply::Element& faces = document.addElement("face", mesh.faces.size());
+  ply::Property& indices = faces.addList("vertex_indices", ply::Type::kUInt8, ply::Type::kUInt32);
+  indices.values.reserve(3 * mesh.faces.size());
+  indices.list_offsets.reserve(mesh.faces.size() + 1);
+  indices.list_offsets.push_back(0);
+  for (const auto& face : mesh.faces) {
+    for (std::uint32_t index : face) indices.values.push_back(index);
+    indices.list_offsets.push_back(indices.values.size());
+  }
+  ply::writeFile(path, document, ply::Format::kBinaryLittleEndian);
 }
 
 void writeObj(const std::filesystem::path& path, const TriangleMesh& mesh) {
@@ -353,11 +206,11 @@ TriangleMesh readMesh(const std::filesystem::path& path) {
   if (extension != ".ply" && extension != ".obj" && extension != ".off") {
     throw InputError(path.string(), "", "unknown mesh format (expected .ply, .obj or .off)");
   }
+  if (extension == ".ply") return requireFiniteVertices(path.string(), readPly(path));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "", "cannot open file for reading");
-  if (extension == ".ply") return PlyReader(path.string(), in).read();
-  if (extension == ".off") return readOff(path.string(), in);
-  return readObj(path.string(), in);
+  if (extension == ".off") return requireFiniteVertices(path.string(), readOff(path.string(), in));
+  return requireFiniteVertices(path.string(), readObj(path.string(), in));
 }
 
 }  // namespace terramesh::mesher

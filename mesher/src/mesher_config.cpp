@@ -25,24 +25,66 @@ std::optional<MesherMode> parseMesherMode(const std::string& name) {
   return std::nullopt;
 }
 
+const char* toString(PointPolicy policy) {
+  switch (policy) {
+    case PointPolicy::kExactMoves:
+      return "exact-moves";
+    case PointPolicy::kFixedPosition:
+      return "fixed";
+  }
+  return "unknown";
+}
+
+std::optional<PointPolicy> parsePointPolicy(const std::string& name) {
+  for (PointPolicy policy : {PointPolicy::kExactMoves, PointPolicy::kFixedPosition}) {
+    if (name == toString(policy)) return policy;
+  }
+  return std::nullopt;
+}
+
 MesherConfig MesherConfig::forMode(MesherMode mode) {
   MesherConfig config;
-  config.mode = mode;
-  if (mode == MesherMode::kProposed) return config;
-  config.incremental_steiner_grid = false;
-  config.local_enclosing_set = false;
-  config.boundary_hash = false;
-  config.next_cell_cache = false;
-  config.ray_scheduler = false;
-  config.edge_growing_pass = false;
-  if (mode == MesherMode::kLitvinov13) {
-    // Litvinov & Lhuillier 2013: a cell is free space once any ray crosses it.
-    config.weight_crossed = 1.0;
-    config.weight_neighbour = 0.0;
-    config.weight_second_neighbour = 0.0;
-    config.free_threshold = 0.0;
-  }
+  config.setMode(mode);
   return config;
+}
+
+void MesherConfig::setMode(MesherMode mode) {
+  // Every mode-dependent setting is assigned here, from the proposed mode's defaults, so that a
+  // config can be switched from one mode to another.
+  const MesherConfig proposed_defaults;
+  mode_ = mode;
+  weight_crossed = proposed_defaults.weight_crossed;
+  weight_neighbour = proposed_defaults.weight_neighbour;
+  weight_second_neighbour = proposed_defaults.weight_second_neighbour;
+  spread_cap = proposed_defaults.spread_cap;
+  free_threshold = proposed_defaults.free_threshold;
+  point_policy = proposed_defaults.point_policy;
+  incremental_steiner_grid = proposed_defaults.incremental_steiner_grid;
+  local_enclosing_set = proposed_defaults.local_enclosing_set;
+  boundary_hash = proposed_defaults.boundary_hash;
+  next_cell_cache = proposed_defaults.next_cell_cache;
+  ray_scheduler = proposed_defaults.ray_scheduler;
+  edge_growing_pass = proposed_defaults.edge_growing_pass;
+  if (mode == MesherMode::kProposed) return;
+  // The baselines as the paper ran them: none of its techniques, and points inserted once at a
+  // fixed position.
+  incremental_steiner_grid = false;
+  local_enclosing_set = false;
+  boundary_hash = false;
+  next_cell_cache = false;
+  ray_scheduler = false;
+  edge_growing_pass = false;
+  point_policy = PointPolicy::kFixedPosition;
+  if (mode == MesherMode::kLitvinov13) {
+    // Litvinov & Lhuillier 2013: ray counts; a cell is free space once any ray crosses it.
+    weight_crossed = 1.0;
+    weight_neighbour = 0.0;
+    weight_second_neighbour = 0.0;
+    free_threshold = 0.0;
+  } else {
+    // Romanoni & Matteucci 2015: inverse-cone weights, every crossing of a neighbour spreads.
+    spread_cap = 0;
+  }
 }
 
 std::vector<std::string> MesherConfig::problems() const {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -48,6 +49,46 @@ void validateKeyframe(const Keyframe& keyframe) {
     if (!seen.insert(observation.point).second) {
       throw std::invalid_argument(what + ": the point is listed twice");
     }
+  }
+}
+
+/// The Steiner grid may hold at most this many nodes (~10 GB of triangulation). Beyond it the
+/// data cannot be meant for this grid step: coordinates in other units than metres_per_unit says,
+/// or a camera thousands of kilometres from the others.
+constexpr double kMaxSteinerNodes = 16.0 * 1024 * 1024;
+
+/// Refuses a keyframe that would grow the Steiner grid beyond kMaxSteinerNodes, before anything
+/// changes: its camera and the observations within range are what the grid must come to cover.
+/// Counted in doubles, so that absurd coordinates cannot overflow the grid's integer keys.
+void validateGridGrowth(const Keyframe& keyframe, const internal::SteinerGrid& grid,
+                        const MesherConfig& config) {
+  const double step = config.steinerStepUnits();
+  const double range = config.maxCameraDistanceUnits();
+  Eigen::Vector3d lo = keyframe.position_W_C;
+  Eigen::Vector3d hi = keyframe.position_W_C;
+  for (const PointObservation& observation : keyframe.observations) {
+    if ((observation.position_W - keyframe.position_W_C).norm() > range) continue;
+    lo = lo.cwiseMin(observation.position_W);
+    hi = hi.cwiseMax(observation.position_W);
+  }
+  if (!grid.empty()) {
+    lo = lo.cwiseMin(grid.nodePosition(grid.lowerNode()));
+    hi = hi.cwiseMax(grid.nodePosition(grid.upperNode()));
+  } else if (!config.incremental_steiner_grid && config.fixed_grid_bounds_W) {
+    lo = lo.cwiseMin(config.fixed_grid_bounds_W->min_W);
+    hi = hi.cwiseMax(config.fixed_grid_bounds_W->max_W);
+  }
+  const Eigen::Vector3d cells = ((hi - lo) / step).array() + 2.0 * config.steiner_margin_cells + 3.0;
+  const double nodes = cells.prod();
+  if (!(nodes <= kMaxSteinerNodes)) {
+    char count[32];
+    std::snprintf(count, sizeof count, "%.3g", nodes);
+    throw std::invalid_argument("keyframe " + std::to_string(keyframe.id.value) +
+                                ": its camera and points would grow the Steiner grid to about " +
+                                count + " nodes (limit " +
+                                std::to_string(static_cast<long>(kMaxSteinerNodes)) +
+                                "): the map spans too many grid steps; check metres_per_unit "
+                                "and steiner_step_m");
   }
 }
 
@@ -122,8 +163,9 @@ void Mesher::Impl::classifyPoint(std::uint32_t index, UpdatePlan& plan, UpdateSt
   }
   if (point.keyframes.empty()) {
     plan.remove.push_back(index);
-  } else if ((point.latest_W - point.inserted_W).norm() > state_.config.moveThresholdUnits()) {
-    plan.move.push_back(index);
+  } else if (state_.config.point_policy == PointPolicy::kExactMoves &&
+             (point.latest_W - point.inserted_W).norm() > state_.config.moveThresholdUnits()) {
+    plan.move.push_back(index);  // with kFixedPosition the point keeps its vertex where it is
   } else {
     reconcileRays(index, plan, stats);
   }
@@ -182,6 +224,7 @@ void Mesher::Impl::createRays(std::uint32_t index, UpdatePlan& plan, UpdateStats
 
 UpdateStats Mesher::Impl::integrateKeyframe(const Keyframe& keyframe) {
   validateKeyframe(keyframe);
+  validateGridGrowth(keyframe, state_.grid, state_.config);
   UpdatePlan plan;
   UpdateStats stats;
   internal::PointRegistry& registry = state_.registry;
@@ -348,7 +391,7 @@ void Mesher::Impl::insertSteinerNode(const Eigen::Vector3d& node, UpdateStats& s
   // The margin keeps O far from new grid layers; should O reach one, shrink around it.
   for (int radius = state_.config.enclosing_radius_cells;
        result == Result::kConflictsWithOutside && radius <= 32; radius *= 2) {
-    if (state_.hash.spatial()) {
+    if (state_.config.local_enclosing_set) {
       shrinker_.shrinkInKeys(shrinker_.enclosingKeys({node}, radius), stats);
     } else {
       shrinker_.shrinkInSpheres({node}, radius * state_.grid.step(), stats);
@@ -498,6 +541,7 @@ void Mesher::Impl::traceNow(std::vector<RayId>& ids, UpdateStats& stats) {
   stats.cache_hits += counters.cache_hits;
   stats.walk_fallbacks += counters.fallbacks;
   stats.walk_failures += counters.failures;
+  stats.walk_step_limit_hits += counters.step_limit_hits;
 }
 
 void Mesher::Impl::traceScheduled(UpdatePlan& plan, UpdateStats& stats) {

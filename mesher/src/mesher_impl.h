@@ -36,6 +36,8 @@ class Mesher::Impl {
   const MesherConfig& config() const { return state_.config; }
 
  private:
+  friend class internal::CheckpointAccess;
+
   /// What one update has to do, filled by the bookkeeping and consumed by `run`.
   struct UpdatePlan {
     std::vector<std::uint32_t> insert;  ///< points to insert for the first time (or again)

@@ -63,6 +63,8 @@ class OutsideSet {
   GridKey keyOf(VertexHandle v) const { return grid_.cellOf(toEigen(v->point())); }
 
  private:
+  friend class CheckpointAccess;
+
   /// Whether a cell other than `cell` around its edge (vertex i, vertex j) is (or is not) in O.
   bool anyAroundEdge(const CellHandle& cell, int i, int j, bool in_outside) const;
   /// Regularity of every vertex of `cells` when cells flagged kCellPending flip membership.

@@ -80,6 +80,8 @@ class PointRegistry {
   std::size_t indexBytes() const;
 
  private:
+  friend class CheckpointAccess;
+
   std::vector<PointRecord> points_;
   std::vector<std::uint32_t> free_points_;
   std::unordered_map<PointId, std::uint32_t> point_index_;

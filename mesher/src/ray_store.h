@@ -70,6 +70,8 @@ class RayStore {
   std::size_t totalCrossings() const { return path_entries_; }
 
  private:
+  friend class CheckpointAccess;
+
   std::vector<Ray> rays_;
   std::vector<RayId> free_rays_;
   std::vector<std::vector<Crossing>> lists_;

@@ -29,8 +29,6 @@ int edgeIndex(int a, int b) {
   return kTable[a][b];
 }
 
-constexpr std::size_t kMaxSteps = 50'000'000;
-
 }  // namespace
 
 std::uint8_t RayWalker::walk(const CameraLocation& camera, VertexHandle target,
@@ -153,6 +151,9 @@ bool RayWalker::walkFrom(CellHandle cell, int entry, const Point& q, VertexHandl
                          std::vector<CellHandle>& path, WalkCounters& counters) const {
   const Point& p = target->point();
   int exit = entry < 0 ? exitFromInside(cell, q, p) : exitAfterEntry(cell, entry, q, p, counters);
+  // The segment crosses each facet at most once, so no cell is entered twice: a longer walk
+  // would mean a corrupt triangulation, and must end rather than loop.
+  const std::size_t max_steps = tri_.tds().number_of_cells() + 1;
   std::size_t steps = 0;
   while (exit >= 0) {
     if (use_cache_) cell->info().next_facet = static_cast<std::uint8_t>(exit);
@@ -161,7 +162,11 @@ bool RayWalker::walkFrom(CellHandle cell, int entry, const Point& q, VertexHandl
     cell = next;
     path.push_back(cell);
     ++counters.steps;
-    if (++steps > kMaxSteps || tri_.is_infinite(cell)) return false;
+    if (++steps > max_steps) {
+      ++counters.step_limit_hits;
+      return false;
+    }
+    if (tri_.is_infinite(cell)) return false;
     if (cell->vertex(entry) == target) return true;
     exit = exitAfterEntry(cell, entry, q, p, counters);
   }

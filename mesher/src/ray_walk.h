@@ -15,6 +15,9 @@ struct WalkCounters {
   std::size_t cache_hits = 0;
   std::size_t fallbacks = 0;  ///< rays walked from a displaced camera (degenerate geometry)
   std::size_t failures = 0;   ///< rays for which no displacement helped (left without a path)
+  /// Walks stopped by the step bound: a straight walk enters each cell at most once, so it is
+  /// cut after (cells + 1) steps. Never expected; counted, not hidden, should it ever happen.
+  std::size_t step_limit_hits = 0;
 };
 
 /// Where a camera lies in the triangulation (from Delaunay::locate).

@@ -48,12 +48,9 @@ void Shrinker::addEnclosedCellsOf(VertexHandle v) {
 void Shrinker::shrinkInKeys(const std::unordered_set<GridKey, GridKeyHash>& keys,
                             UpdateStats& stats) {
   enclosed_.clear();
-  // Every O-cell with a vertex in the keys is incident to a hashed (boundary) vertex there.
-  for (const GridKey& key : keys) {
-    const std::vector<VertexHandle>* bucket = state_.hash.bucket(key);
-    if (bucket == nullptr) continue;
-    for (const VertexHandle& v : *bucket) addEnclosedCellsOf(v);
-  }
+  // Every O-cell with a vertex in the keys is incident to a hashed vertex (of an O-cell) there.
+  stats.boundary_vertices_examined +=
+      state_.hash.forEachVertexIn(keys, [this](const VertexHandle& v) { addEnclosedCellsOf(v); });
   peel(stats);
 }
 

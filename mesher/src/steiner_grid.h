@@ -44,6 +44,8 @@ class SteinerGrid {
   std::size_t nodeCount() const;
 
  private:
+  friend class CheckpointAccess;
+
   std::vector<Eigen::Vector3d> growNodeBox(const GridKey& lo, const GridKey& hi);
 
   double step_;

@@ -74,6 +74,8 @@ class SurfaceLog {
   std::size_t memoryBytes() const { return bytes_; }
 
  private:
+  friend class CheckpointAccess;
+
   struct Event {
     WoundFace face;
     std::uint64_t hash;  ///< faceHash(face): equal for every winding and rotation

@@ -1,6 +1,8 @@
 #include "triangulation_editor.h"
 
 #include <algorithm>
+#include <array>
+#include <utility>
 #include <cassert>
 #include <iterator>
 
@@ -80,8 +82,35 @@ void TriangulationEditor::remove(VertexHandle v, std::vector<RayId>& retrace) {
   forgetCells(conflict_cells_);
   new_cells_.clear();
   state_.tri.remove_and_give_new_cells(v, std::back_inserter(new_cells_));
+  sortByVertexKeys(new_cells_);
   registerNewCells(new_cells_);
   if (!new_cells_.empty()) hint_ = new_cells_.front();
+}
+
+void TriangulationEditor::sortByVertexKeys(std::vector<CellHandle>& cells) const {
+  // CGAL fills the hole of a removed vertex in an order that follows a hash of vertex addresses.
+  // Stamping the new cells in that order would make uids, and every tie-break on them, differ
+  // between runs (and after resuming a checkpoint); the cells' vertex keys give one order.
+  using CellKey = std::array<std::pair<std::uint8_t, std::uint64_t>, 4>;
+  std::vector<std::pair<CellKey, CellHandle>> keyed;
+  keyed.reserve(cells.size());
+  for (const CellHandle& cell : cells) {
+    CellKey key;
+    for (int i = 0; i < 4; ++i) {
+      const VertexHandle v = cell->vertex(i);
+      if (state_.tri.is_infinite(v)) {
+        key[i] = {2, 0};
+      } else {
+        const VertexKey vertex_key = state_.outside.vertexKey(v);
+        key[i] = {vertex_key.steiner ? 1 : 0, vertex_key.value};
+      }
+    }
+    std::sort(key.begin(), key.end());
+    keyed.emplace_back(key, cell);
+  }
+  std::sort(keyed.begin(), keyed.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t i = 0; i < keyed.size(); ++i) cells[i] = keyed[i].second;
 }
 
 void TriangulationEditor::untraceCrossing(const std::vector<CellHandle>& doomed,

@@ -36,6 +36,10 @@ class TriangulationEditor {
   void bootstrap(const std::vector<Eigen::Vector3d>& steiner_points);
 
  private:
+  friend class CheckpointAccess;
+
+  /// Orders cells by their sorted vertex keys (the infinite vertex last): independent of memory.
+  void sortByVertexKeys(std::vector<CellHandle>& cells) const;
   void untraceCrossing(const std::vector<CellHandle>& doomed, std::vector<RayId>& retrace);
   /// Vertex degrees lose the cells about to be destroyed.
   void forgetCells(const std::vector<CellHandle>& doomed);

@@ -33,11 +33,14 @@ UpdateStats& UpdateStats::operator+=(const UpdateStats& other) {
   steiner_cells_shrunk += other.steiner_cells_shrunk;
   cells_grown += other.cells_grown;
   genus_pass_cells += other.genus_pass_cells;
+  edge_pass_cells += other.edge_pass_cells;
+  boundary_vertices_examined += other.boundary_vertices_examined;
   walk_steps += other.walk_steps;
   cache_lookups += other.cache_lookups;
   cache_hits += other.cache_hits;
   walk_fallbacks += other.walk_fallbacks;
   walk_failures += other.walk_failures;
+  walk_step_limit_hits += other.walk_step_limit_hits;
   time += other.time;
   return *this;
 }

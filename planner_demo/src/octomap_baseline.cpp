@@ -1,5 +1,7 @@
 #include "planning/octomap_baseline.h"
 
+#include "common/atomic_file.h"
+
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
@@ -59,7 +61,10 @@ void OctomapBaseline::insertKeyframe(const mesher::Keyframe& keyframe) {
 }
 
 void OctomapBaseline::writeBinary(const std::filesystem::path& path) const {
-  if (!impl_->tree.writeBinaryConst(path.string())) throw std::runtime_error("cannot write " + path.string());
+  // Atomically (temporary file + rename): an interrupted write leaves the previous .bt whole.
+  writeFileAtomically(path, [this, &path](std::ostream& out) {
+    if (!impl_->tree.writeBinaryConst(out)) throw std::runtime_error("cannot write " + path.string());
+  });
 }
 
 OctomapStats OctomapBaseline::stats() const {

@@ -17,6 +17,7 @@ AxisAlignedBox sceneBounds() { return {Eigen::Vector3d(-11, -11, -1), Eigen::Vec
 /// A fixed grid, so that both runs triangulate the same Steiner points.
 MesherConfig fixedGridConfig(MesherMode mode) {
   MesherConfig config = MesherConfig::forMode(mode);
+  config.point_policy = PointPolicy::kExactMoves;  // the baselines' default keeps points fixed
   config.steiner_step_m = 4.0;
   config.incremental_steiner_grid = false;
   config.fixed_grid_bounds_W = sceneBounds();
@@ -135,6 +136,7 @@ TEST_P(Exactness, InvariantsHoldThroughMovesRemovalsCorrectionsAndKeyframeRemova
   const auto scene = test::corridorScene(options);
   const auto moving = test::withMovingEstimates(scene.keyframes, 0.15, 3);
   MesherConfig config = MesherConfig::forMode(GetParam());
+  config.point_policy = PointPolicy::kExactMoves;  // moves in every mode, not only the proposed
   config.steiner_step_m = 4.0;
   if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = sceneBounds();
   Mesher mesher(config);

@@ -207,7 +207,7 @@ void replayStream(const datasets::SlamStream& stream, MesherConfig config) {
   DeltaChecker checker(mesher);
   for (std::size_t i = 0; i < stream.events.size(); ++i) {
     datasets::applyEvent(mesher, stream.events[i]);
-    checker.afterUpdate(std::string(toString(config.mode)) + ", event " + std::to_string(i));
+    checker.afterUpdate(std::string(toString(config.mode())) + ", event " + std::to_string(i));
     if (::testing::Test::HasFatalFailure()) return;
   }
   EXPECT_GT(checker.added(), 1000u) << "the stream must build a real surface";

@@ -133,7 +133,7 @@ class ProfileReader {
     RobotProfile profile;
     bool has_name = false;
     for (const auto& entry : root) {
-      const std::string key = entry.first.as<std::string>();
+      const std::string key = keyText(entry.first, "");
       const YAML::Node& value = entry.second;
       if (key == "name") {
         if (!value.IsScalar() || value.Scalar().empty()) fail(value, key, describe(value), "a non-empty string");
@@ -171,6 +171,12 @@ class ProfileReader {
     const std::string where =
         (mark.line >= 0 ? lineLocation(static_cast<std::size_t>(mark.line) + 1) + ", " : std::string()) + "key " + key;
     throw InputError(file_, where, value + ": expected " + expected);
+  }
+
+  /// A mapping key as text; YAML also allows sequences and mappings as keys, which no profile has.
+  std::string keyText(const YAML::Node& key, const std::string& section) const {
+    if (!key.IsScalar()) fail(key, section + "?", describe(key), "a key name");
+    return key.Scalar();
   }
 
   static std::string describe(const YAML::Node& node) {
@@ -211,9 +217,10 @@ class ProfileReader {
                    RobotProfile& profile) const {
     if (!node.IsMap()) fail(node, section, describe(node), "a mapping");
     for (const auto& entry : node) {
-      const std::string key = section + "." + entry.first.as<std::string>();
+      const std::string name = keyText(entry.first, section + ".");
+      const std::string key = section + "." + name;
       const NumericKey* numeric = find(key);
-      if (!allowed.count(entry.first.as<std::string>()) || !numeric) {
+      if (!allowed.count(name) || !numeric) {
         std::string list;
         for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
         fail(entry.first, key, "an unknown key", "one of " + list);

@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -52,7 +53,8 @@ struct Element {
   /// The property called `name`, or nullptr.
   const Property* find(const std::string& property_name) const;
   Property* find(const std::string& property_name);
-  /// Appends an empty scalar property (fill `values` with `count` values).
+  /// Appends an empty scalar property (fill `values` with `count` values). Adding a property may
+  /// move the others: fill each before adding the next, or look them up again with find().
   Property& addScalar(const std::string& property_name, Type type);
   /// Appends an empty list property (fill `values` and `list_offsets`).
   Property& addList(const std::string& property_name, Type count_type, Type item_type);
@@ -66,17 +68,22 @@ struct Document {
 
   const Element* find(const std::string& element_name) const;
   Element* find(const std::string& element_name);
-  /// Appends an element with `count` items and no properties yet.
+  /// Appends an element with `count` items and no properties yet (may move the other elements).
   Element& addElement(const std::string& element_name, std::size_t count);
 };
+
+/// Called by read() after each item of an element is read, with that item's values (and every
+/// earlier item's) in place: lets a caller validate items in file order, so that the first bad
+/// item is the one reported even when the file is also truncated later. It reports by throwing.
+using ItemCheck = std::function<void(const Element& element, std::size_t item)>;
 
 /// Reads a PLY file. Elements and properties keep the file's order.
 /// @throw terramesh::InputError naming the file and the header line ("line 7") or the element
 ///        item ("face 12") and what was expected (bad magic, unknown format or type, truncated
-///        data, malformed ascii numbers, negative list counts).
-Document read(const std::filesystem::path& path);
+///        data, malformed ascii numbers, negative list counts); whatever `check` throws.
+Document read(const std::filesystem::path& path, const ItemCheck& check = {});
 /// Same, from a stream opened in binary mode; `file_name` is used in error messages.
-Document read(std::istream& in, const std::string& file_name);
+Document read(std::istream& in, const std::string& file_name, const ItemCheck& check = {});
 
 /// Writes `document` in `format` (ascii numbers with full precision, "nan"/"inf" for non-finite
 /// floats). Values are converted to each property's type: integers are rounded and clamped to

@@ -54,6 +54,10 @@ struct InvariantReport {
   std::string summary(std::size_t max_lines = 5) const;
 };
 
+namespace internal {
+class CheckpointAccess;
+}  // namespace internal
+
 /// Incremental manifold mesh reconstruction from SLAM keyframes (Piazza et al., RA-L 2018).
 ///
 /// Keeps a 3D Delaunay triangulation of the SLAM points plus a Steiner grid, a visibility weight
@@ -77,8 +81,10 @@ class Mesher {
   /// Integrates a keyframe, or replaces an earlier one with the same id (corrected pose, new
   /// observation list). Observed points take the given positions: new points enter once seen by
   /// `min_views` keyframes in range, inserted points that moved are removed and re-inserted.
-  /// @throw std::invalid_argument if a coordinate or the rotation is not finite, or the keyframe
-  ///        lists a point twice; the map is then unchanged.
+  /// @throw std::invalid_argument if a coordinate or the rotation is not finite, the keyframe
+  ///        lists a point twice, or its camera and points in range would grow the Steiner grid
+  ///        beyond 16 Mi nodes (the map's extent does not fit its units or the grid step); the
+  ///        map is then unchanged.
   UpdateStats integrateKeyframe(const Keyframe& keyframe);
 
   /// Deletes points (e.g. culled by SLAM) with all their rays. Unknown ids are ignored.
@@ -129,6 +135,7 @@ class Mesher {
   InvariantReport checkInvariants() const;
 
  private:
+  friend class internal::CheckpointAccess;  // saveCheckpoint / loadCheckpoint (mesher/checkpoint.h)
   class Impl;
   std::unique_ptr<Impl> impl_;
 };

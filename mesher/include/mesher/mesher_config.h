@@ -15,10 +15,21 @@ enum class MesherMode {
   kRomanoni15,  ///< Romanoni & Matteucci 2015: as kLitvinov13 with inverse-cone weights
 };
 
+/// What happens to an inserted point whose SLAM estimate changes.
+enum class PointPolicy {
+  kExactMoves,     ///< its vertex is removed and re-inserted at the new estimate (the paper's method)
+  kFixedPosition,  ///< it stays where it was first inserted, as the originals ran Litvinov13 and
+                   ///< Romanoni15 in the paper's comparison; later estimates are ignored
+};
+
 /// "proposed", "litvinov13" or "romanoni15".
 const char* toString(MesherMode mode);
 /// Parses the names printed by toString; std::nullopt for anything else.
 std::optional<MesherMode> parseMesherMode(const std::string& name);
+/// "exact-moves" or "fixed".
+const char* toString(PointPolicy policy);
+/// Parses the names printed by toString; std::nullopt for anything else.
+std::optional<PointPolicy> parsePointPolicy(const std::string& name);
 
 /// Axis-aligned box in the world frame, in map units.
 struct AxisAlignedBox {
@@ -28,8 +39,13 @@ struct AxisAlignedBox {
 
 /// Configuration of the mesher. Distances are in metres; `metres_per_unit` converts them into the
 /// units of the incoming map (1 for a metric map; about 16.6 for the ORB-SLAM KITTI 00 export).
+///
+/// The mode is the single source of the mode-dependent settings (weights, threshold, spread cap,
+/// point policy, technique switches): it can only be set through `forMode` or `setMode`, which
+/// set all of them to the mode's values. Assign a setting after that to override it (ablations);
+/// the mesher runs exactly the settings held, and `mode()` names where their defaults came from.
+/// A default-constructed config is `forMode(MesherMode::kProposed)`.
 struct MesherConfig {
-  MesherMode mode = MesherMode::kProposed;
 
   /// Size of one map unit in metres.
   double metres_per_unit = 1.0;
@@ -55,15 +71,18 @@ struct MesherConfig {
   double weight_neighbour = 2.0;
   double weight_second_neighbour = 1.0;
   /// How many crossings of a neighbour count towards a cell's weight (0: all of them, as in the
-  /// authors' code). Spreading every crossing lets big cells at a surface, crossed by hundreds of
-  /// rays, carve the cells behind it; a cap bounds what a neighbour can contribute.
+  /// authors' code and in romanoni15 mode). Spreading every crossing lets big cells at a surface,
+  /// crossed by hundreds of rays, carve the cells behind it; a cap (this project's, 1 in proposed
+  /// mode) bounds what a neighbour can contribute.
   int spread_cap = 1;
   /// A cell is free space when its weight is strictly above this.
   double free_threshold = 20.0;
   /// A point whose new estimate moved by no more than this keeps its vertex.
   double move_threshold_m = 0.0;
+  /// Whether inserted points follow their SLAM estimates (proposed) or stay put (baselines).
+  PointPolicy point_policy = PointPolicy::kExactMoves;
 
-  /// Technique switches. `forMode` sets them; they can be changed for ablation studies.
+  /// Technique switches. The mode sets them; they can be changed for ablation studies.
   bool incremental_steiner_grid = true;  ///< grow the grid with the map (else fixed_grid_bounds_W)
   bool local_enclosing_set = true;       ///< enclosing set from grid cells around new points
   bool boundary_hash = true;             ///< boundary vertices hashed by Steiner cell
@@ -78,8 +97,15 @@ struct MesherConfig {
   /// Region covered by the fixed Steiner grid when incremental_steiner_grid is false.
   std::optional<AxisAlignedBox> fixed_grid_bounds_W;
 
-  /// The defaults of a mode: weights, threshold and technique switches.
+  /// A config with the defaults of `mode`: weights, threshold, spread cap, point policy and
+  /// technique switches (the other fields keep their defaults).
   static MesherConfig forMode(MesherMode mode);
+
+  /// The mode whose settings this config started from.
+  MesherMode mode() const { return mode_; }
+  /// Sets the mode and every mode-dependent setting to that mode's values (overriding earlier
+  /// assignments to them); fields that do not depend on the mode are kept.
+  void setMode(MesherMode mode);
 
   /// Every problem with the configuration, one sentence each; empty when valid.
   std::vector<std::string> problems() const;
@@ -90,6 +116,9 @@ struct MesherConfig {
   double maxCameraDistanceUnits() const { return max_camera_distance_m / metres_per_unit; }
   double steinerStepUnits() const { return steiner_step_m / metres_per_unit; }
   double moveThresholdUnits() const { return move_threshold_m / metres_per_unit; }
+
+ private:
+  MesherMode mode_ = MesherMode::kProposed;
 };
 
 }  // namespace terramesh::mesher

@@ -48,12 +48,19 @@ struct UpdateStats {
   std::size_t steiner_cells_shrunk = 0;  ///< ... of which with a Steiner vertex
   std::size_t cells_grown = 0;           ///< cells added to O by growing
   std::size_t genus_pass_cells = 0;      ///< ... of which added by the per-vertex pass
+  std::size_t edge_pass_cells = 0;       ///< ... of which added by the edge pass (rings of an edge)
+  /// Hashed vertices examined to find those of the enclosing set and of the grown region (local
+  /// enclosing set only): the region's buckets with the boundary hash, every vertex without it
+  std::size_t boundary_vertices_examined = 0;
 
   std::size_t walk_steps = 0;        ///< cells entered by ray walks
   std::size_t cache_lookups = 0;     ///< steps where a next-cell cache entry was available
   std::size_t cache_hits = 0;        ///< ... and named the right next cell
   std::size_t walk_fallbacks = 0;    ///< degenerate rays walked from a displaced camera
   std::size_t walk_failures = 0;     ///< rays no displacement could walk (left without votes)
+  /// Walks cut by the step bound (cells + 1; a straight walk enters no cell twice): always 0
+  /// unless the triangulation is corrupt; such a ray is walked again from a displaced camera.
+  std::size_t walk_step_limit_hits = 0;
 
   StepTimes time;
 

@@ -1,0 +1,295 @@
+// terramesh compare INPUT -o OUTDIR: the mesher against OctoMap and PCL's reconstructions on the
+// same stream, measured the same way (time, memory, size, accuracy, manifoldness,
+// traversability, planning).
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <variant>
+
+#include "baselines/planning_pairs.h"
+#include "baselines/slam_points.h"
+#include "baselines/surface_measures.h"
+#include "cli_args.h"
+#include "commands.h"
+#include "common/atomic_file.h"
+#include "common/input_error.h"
+#include "compare_maps.h"
+#include "compare_report.h"
+#include "datasets/kitti_odometry_reader.h"
+#include "datasets/labeled_mesh.h"
+#include "datasets/similarity_transform.h"
+#include "datasets/stream_reader.h"
+#include "evaluation/ground_truth_traversability.h"
+#include "evaluation/robot_limits.h"
+#include "mesher_options.h"
+#include "traversability/robot_profile.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::cli {
+namespace {
+
+struct CompareOptions {
+  std::string input;
+  std::string output;
+  std::optional<std::string> gt;
+  std::optional<std::string> views;
+  std::optional<std::string> gt_lidar;
+  std::optional<std::string> gt_poses;
+  std::string gt_frames = "0:10";
+  std::optional<std::string> sim3;
+  std::optional<std::string> robot;
+  std::string methods = "all";
+  std::size_t pairs = 10;
+  double pair_min_distance_m = 5;
+  double snap_radius_m = 1;
+  double camera_height_m = 1.65;
+  std::size_t samples = 100000;
+  int stride_px = 8;
+  std::size_t view_step = 1;
+  std::uint64_t seed = 1;
+  std::optional<std::string> figures_script;
+  bool no_figures = false;
+  bool quiet = false;
+};
+
+void addOptions(CLI::App& app, CompareOptions& o) {
+  app.add_option("INPUT", o.input, "SLAM stream (any format `terramesh mesh` reads)")->required();
+  app.add_option("-o,--output", o.output, "output directory (created if missing)")->required();
+  app.add_option("--gt", o.gt, "ground truth: a labelled mesh (ground_truth.ply of terramesh generate)");
+  app.add_option("--views", o.views, "with --gt: camera poses to render truth depth from (default: trajectory.txt beside GT)");
+  app.add_option("--gt-lidar", o.gt_lidar, "ground truth: a KITTI odometry sequence (velodyne/*.bin, calib.txt)");
+  app.add_option("--gt-poses", o.gt_poses, "with --gt-lidar: its KITTI poses (cam0-to-world)");
+  app.add_option("--gt-frames", o.gt_frames, "with --gt-lidar: scans of frames A to B (inclusive)")->capture_default_str();
+  app.add_option("--sim3", o.sim3, "map every surface into the truth's frame by x' = s R x + t (s, R, t lines)");
+  app.add_option("--robot", o.robot, "robot profile (YAML): traversability layers and planning on every surface");
+  app.add_option("--methods", o.methods,
+                 "comma-separated: proposed, litvinov13, romanoni15, octomap-0.1, octomap-0.2, octomap-0.5, "
+                 "greedy, poisson, marching-cubes; or all")->capture_default_str();
+  app.add_option("--pairs", o.pairs, "start-goal pairs for planning")->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--pair-min-distance-m", o.pair_min_distance_m, "start and goal at least this far apart")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--snap-radius-m", o.snap_radius_m, "start/goal snap to walkable surface within this")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--camera-height-m", o.camera_height_m,
+                 "without labelled truth: pairs are drawn on the road this far below the keyframe centres")->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--samples", o.samples, "surface samples for accuracy and completeness")->capture_default_str()->check(CLI::Range(1, 10000000));
+  app.add_option("--stride-px", o.stride_px, "with --gt: render every N-th pixel in each direction")->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--view-step", o.view_step, "with --gt: use every N-th view")->capture_default_str()->check(CLI::Range(1, 100000));
+  app.add_option("--seed", o.seed, "seed of the sampling and of the pairs")->capture_default_str();
+  app.add_option("--figures-script", o.figures_script, "the matplotlib script that draws the figures");
+  app.add_flag("--no-figures", o.no_figures, "write the CSVs only; draw no figure");
+  app.add_flag("--quiet", o.quiet, "print nothing but errors");
+}
+
+std::pair<std::size_t, std::size_t> parseFrames(const std::string& text) {
+  const auto fields = parseColonIntegers(text, "compare: --gt-frames", "A:B", 2);
+  if (fields.size() != 2 || !fields[0] || !fields[1] || *fields[1] < *fields[0]) {
+    throw UsageError("compare: --gt-frames expects A:B with A <= B, got \"" + text + "\"");
+  }
+  return {*fields[0], *fields[1]};
+}
+
+std::vector<datasets::EvaluationView> readViews(const std::filesystem::path& path, std::size_t step) {
+  std::vector<datasets::EvaluationView> views;
+  const std::vector<Eigen::Isometry3d> poses = datasets::readKittiPoses(path);
+  for (std::size_t i = 0; i < poses.size(); i += step) {
+    views.push_back({poses[i].translation(), Eigen::Quaterniond(poses[i].linear())});
+  }
+  return views;
+}
+
+/// Keyframe centres, the last pose sent for each id (removed keyframes dropped).
+std::vector<Eigen::Vector3d> keyframeCentres(const datasets::SlamStream& stream) {
+  std::map<mesher::KeyframeId, Eigen::Vector3d> latest;
+  for (const datasets::StreamEvent& event : stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) latest[keyframe->id] = keyframe->position_W_C;
+    if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) latest.erase(removal->keyframe);
+  }
+  std::vector<Eigen::Vector3d> centres;
+  for (const auto& [id, centre] : latest) centres.push_back(centre);
+  return centres;
+}
+
+std::string commandLine(const std::vector<std::string>& args) {
+  std::string text = "terramesh compare";
+  for (const std::string& arg : args) text += " " + arg;
+  return text;
+}
+
+std::filesystem::path defaultFiguresScript() {
+#ifdef TERRAMESH_FIGURES_DIR
+  return std::filesystem::path(TERRAMESH_FIGURES_DIR) / "compare_figures.py";
+#else
+  return {};
+#endif
+}
+
+}  // namespace
+
+int runCompare(const std::vector<std::string>& args) {
+  CLI::App app("The mesher against OctoMap and PCL's surface reconstructions on one stream: build time, peak "
+               "memory, size, accuracy and completeness, manifoldness, traversability F1 and planning, in one "
+               "table (OUTDIR/report.md, compare.csv, figures).",
+               "terramesh compare");
+  CompareOptions o;
+  MesherOptions mesher_options;
+  addOptions(app, o);
+  addMesherOptions(app, mesher_options);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  if (o.gt && o.gt_lidar) throw UsageError("compare: give at most one of --gt and --gt-lidar");
+  if (o.gt_lidar && !o.gt_poses) throw UsageError("compare: --gt-lidar needs --gt-poses FILE");
+  if (o.views && !o.gt) throw UsageError("compare: --views goes with --gt");
+  const std::vector<MapSpec> specs = parseMethods(o.methods);
+  auto say = [&o](const std::string& text) {
+    if (!o.quiet) std::cerr << "compare: " << text << '\n';
+  };
+
+  // Read and check every input before building anything.
+  const datasets::SlamStream stream = datasets::readAnyStream(o.input);
+  const mesher::MesherConfig proposed = mesherConfigFrom(mesher_options, mesher::MesherMode::kProposed, stream);
+  std::optional<datasets::SimilarityTransform> sim3;
+  if (o.sim3) sim3 = datasets::readSimilarityTransform(*o.sim3);
+  std::optional<traversability::RobotProfile> profile;
+  if (o.robot) profile = traversability::loadRobotProfile(*o.robot);
+  std::filesystem::path views_path;
+  if (o.gt) {
+    views_path = o.views ? std::filesystem::path(*o.views) : std::filesystem::path(*o.gt).parent_path() / "trajectory.txt";
+    if (!std::filesystem::is_regular_file(views_path)) {
+      throw UsageError("compare: no views file " + views_path.string() + " (give --views FILE)");
+    }
+  }
+  const Eigen::Vector3d up_W = baselines::streamUp(stream);
+
+  const std::filesystem::path out = o.output;
+  std::filesystem::create_directories(out / "maps");
+  std::filesystem::create_directories(out / "topview");
+  BuildContext context;
+  context.stream = &stream;
+  context.mesher_config = [&](mesher::MesherMode mode) { return mesherConfigFrom(mesher_options, mode, stream); };
+  context.up_W = up_W;
+  context.metres_per_unit = proposed.metres_per_unit;
+  context.max_distance_m = proposed.max_camera_distance_m;
+  context.min_views = proposed.min_views;
+  context.maps_dir = out / "maps";
+
+  // Every map first, each in its own process, while this process holds only the stream.
+  std::vector<CompareRow> rows;
+  for (const MapSpec& spec : specs) {
+    CompareRow row;
+    row.spec = spec;
+    row.built = buildMap(spec, context);
+    say(spec.name + (row.built.ok ? ": built in " + std::to_string(row.built.build_s) + " s, " +
+                                        std::to_string(row.built.surface.faces.size()) + " faces"
+                                  : ": failed: " + row.built.error));
+    rows.push_back(std::move(row));
+  }
+
+  // Everything is measured in the truth's frame, in metres.
+  auto toTruth = [&](const mesher::TriangleMesh& mesh) {
+    if (sim3) return sim3->apply(mesh);
+    mesher::TriangleMesh scaled = mesh;
+    for (Eigen::Vector3d& v : scaled.vertices) v *= proposed.metres_per_unit;
+    return scaled;
+  };
+  const Eigen::Vector3d up_T = sim3 ? Eigen::Vector3d((sim3->rotation * up_W).normalized()) : up_W;
+
+  CompareSetup setup;
+  setup.command = commandLine(args);
+  setup.input = o.input;
+  setup.keyframes = stream.keyframeEventCount();
+  setup.metres_per_unit = proposed.metres_per_unit;
+  baselines::GeometryTruthConfig truth_config;
+  truth_config.samples = o.samples;
+  truth_config.seed = o.seed;
+  truth_config.depth.stride_px = o.stride_px;
+  std::optional<baselines::GeometryTruth> truth;
+  std::optional<datasets::LabeledMesh> labelled;
+  if (o.gt) {
+    labelled = datasets::readLabeledPly(*o.gt);
+    if (labelled->mesh.faces.empty()) throw InputError(*o.gt, "faces", "the ground truth has no faces");
+    truth = baselines::GeometryTruth::fromMesh(labelled->mesh, readViews(views_path, o.view_step), truth_config);
+    setup.truth = "mesh `" + *o.gt + "` rendered from `" + views_path.string() + "` (" +
+                  std::to_string(truth->truthRays()) + " rays)";
+  } else if (o.gt_lidar) {
+    datasets::LidarTruthOptions options;
+    options.poses_path = *o.gt_poses;
+    std::tie(options.first_frame, options.last_frame) = parseFrames(o.gt_frames);
+    truth = baselines::GeometryTruth::fromLidar(*o.gt_lidar, options, truth_config);
+    setup.truth = "KITTI LiDAR `" + *o.gt_lidar + "` frames " + o.gt_frames + " (" +
+                  std::to_string(truth->truthRays()) + " rays)";
+  }
+  if (truth) say("ground truth ready: " + std::to_string(truth->truthRays()) + " rays");
+
+  std::optional<evaluation::GroundTruthTraversability> labels;
+  std::vector<baselines::PlanningPair> pairs;
+  if (profile) {
+    setup.robot = profile->name + " (`" + *o.robot + "`)";
+    if (labelled) {
+      labels = evaluation::labelTraversability(*labelled, evaluation::robotLimitsFrom(*profile),
+                                               evaluation::estimateUpFromSlopes(*labelled), {});
+      pairs = baselines::pairsOnTruth(*labels, o.pairs, o.seed, o.pair_min_distance_m);
+      setup.pairs = std::to_string(pairs.size()) + " drawn on the truth's largest traversable area (seed " +
+                    std::to_string(o.seed) + ", >= " + std::to_string(o.pair_min_distance_m) + " m apart)";
+    } else {
+      std::vector<Eigen::Vector3d> road;
+      for (const Eigen::Vector3d& c : keyframeCentres(stream)) {
+        road.push_back((sim3 ? sim3->apply(c) : Eigen::Vector3d(c * proposed.metres_per_unit)) - o.camera_height_m * up_T);
+      }
+      pairs = baselines::pairsOnPoints(road, o.pairs, o.seed, o.pair_min_distance_m);
+      setup.pairs = std::to_string(pairs.size()) + " among the keyframe centres lowered by " +
+                    std::to_string(o.camera_height_m) + " m (the road under the camera; no labelled truth)";
+    }
+  }
+
+  planning::WalkabilityConfig walkability;
+  if (profile) walkability.min_lethal_distance_m = profile->inscribed_radius_m;
+  for (CompareRow& row : rows) {
+    if (!row.built.ok) continue;
+    const auto started = std::chrono::steady_clock::now();
+    const mesher::TriangleMesh surface = toTruth(row.built.surface);
+    row.manifold = baselines::measureManifoldness(surface);
+    if (truth) {
+      row.geometry = truth->score(surface);
+      row.has_geometry = true;
+    }
+    std::optional<traversability::LayeredMesh> layered;
+    if (profile && !surface.faces.empty()) {
+      layered = traversability::TraversabilityMap::computeForMesh(
+          surface, *profile, {up_T, 1.0}, static_cast<std::uint32_t>(std::max(profile->min_rays, 1)));
+      if (labels) {
+        row.traversability = evaluation::scoreTraversability(*layered, *labels, {});
+        row.has_traversability = true;
+      }
+      row.planning = baselines::planPairs(*layered, pairs, walkability, o.snap_radius_m);
+      row.has_planning = !pairs.empty();
+    }
+    writeTopView(out / "topview" / (row.spec.slug + ".csv"), surface, layered ? &layered->layers : nullptr, up_T);
+    row.measure_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    say(row.spec.name + ": measured in " + std::to_string(row.measure_s) + " s");
+  }
+
+  writeCompareCsv(out / "compare.csv", rows);
+  bool figures = false;
+  if (!o.no_figures) {
+    const std::filesystem::path script = o.figures_script ? std::filesystem::path(*o.figures_script) : defaultFiguresScript();
+    if (!script.empty() && std::filesystem::is_regular_file(script)) {
+      const std::string call = "/usr/bin/python3 '" + script.string() + "' '" + out.string() + "'" + (o.quiet ? " > /dev/null" : "");
+      figures = std::system(call.c_str()) == 0;
+      if (!figures) say("the figure script failed: " + call);
+    } else {
+      say("no figure script at " + script.string() + " (give --figures-script)");
+    }
+  }
+  const std::string report = compareMarkdown(setup, rows, figures);
+  writeFileAtomically(out / "report.md", report);
+  if (!o.quiet) std::cout << report;
+  return kExitOk;
+}
+
+}  // namespace terramesh::cli

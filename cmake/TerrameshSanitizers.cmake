@@ -1,0 +1,31 @@
+# Sanitizer and fuzzing builds (docs/reliability.md, "Sanitizers" and "Fuzzing").
+#
+#   -DTERRAMESH_SANITIZE=address,undefined   every target compiled and linked with these sanitizers
+#   -DTERRAMESH_BUILD_FUZZERS=ON             the libFuzzer targets of tests/fuzz (clang only); the
+#                                            reader libraries get coverage instrumentation
+#
+# scripts/test_sanitized.sh configures both with clang. Errors are never recovered from
+# (-fno-sanitize-recover=all): the first report aborts the test that triggered it.
+set(TERRAMESH_SANITIZE "" CACHE STRING
+    "Comma-separated sanitizers for every target, e.g. address,undefined (empty: none)")
+set(TERRAMESH_SANITIZE_OPTIMIZE "1" CACHE STRING
+    "Optimisation level of sanitizer builds (-O<level>); 1 keeps CGAL-heavy tests within CI's time")
+option(TERRAMESH_BUILD_FUZZERS "Build the libFuzzer targets of tests/fuzz (clang only)" OFF)
+
+if(TERRAMESH_BUILD_FUZZERS AND NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+  message(WARNING "terramesh: TERRAMESH_BUILD_FUZZERS needs clang (libFuzzer); fuzz targets are "
+                  "left out (configure with -DCMAKE_CXX_COMPILER=clang++)")
+  set(TERRAMESH_BUILD_FUZZERS OFF CACHE BOOL "Build the libFuzzer targets of tests/fuzz (clang only)" FORCE)
+endif()
+
+if(TERRAMESH_SANITIZE)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "^(Clang|GNU)$")
+    message(FATAL_ERROR "terramesh: TERRAMESH_SANITIZE needs clang or gcc")
+  endif()
+  string(REPLACE ";" "," terramesh_sanitizers "${TERRAMESH_SANITIZE}")
+  # Frame pointers for readable stacks; -O<level> after the build type's flags, so it wins.
+  add_compile_options(-fsanitize=${terramesh_sanitizers} -fno-sanitize-recover=all
+                      -fno-omit-frame-pointer -g -O${TERRAMESH_SANITIZE_OPTIMIZE})
+  add_link_options(-fsanitize=${terramesh_sanitizers})
+  message(STATUS "terramesh: sanitizers ${terramesh_sanitizers}, -O${TERRAMESH_SANITIZE_OPTIMIZE}")
+endif()

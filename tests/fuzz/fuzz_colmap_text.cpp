@@ -1,0 +1,18 @@
+// libFuzzer target: a COLMAP text model, datasets::readColmapStream. The input holds
+// cameras.txt, images.txt and points3D.txt separated by fuzz::kFileSeparator.
+#include <cstddef>
+#include <cstdint>
+
+#include "datasets/colmap_reader.h"
+#include "fuzz_support.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace terramesh;
+  const auto parts = fuzz::splitFiles(fuzz::asText(data, size), 3);
+  const auto& dir = fuzz::scratchDir();
+  fuzz::writeFile(dir / "cameras.txt", parts[0]);
+  fuzz::writeFile(dir / "images.txt", parts[1]);
+  fuzz::writeFile(dir / "points3D.txt", parts[2]);
+  fuzz::expectOnlyInputErrors([&] { datasets::readColmapStream(dir, datasets::ColmapFileType::kText); });
+  return 0;
+}
