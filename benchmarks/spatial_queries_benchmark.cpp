@@ -1,6 +1,6 @@
 // Ray casts and nearest-point queries per second on the evaluation's workloads, for the project's
-// own structures (datasets::TriangleBvh, datasets::PointCloudIndex) and the libraries that could
-// replace them: CGAL's AABB_tree, Embree (when built with it) and nanoflann.
+// spatial queries (datasets::TriangleBvh on Embree with double-precision refinement,
+// datasets::PointCloudIndex on nanoflann) and, for the triangle queries, CGAL's AABB_tree.
 //   rays:    the depth-comparison rays of `terramesh eval --gt-mesh` (renderTruthRays): every 8th
 //            pixel of the KITTI camera from 20 views along a synthetic street, max depth 40 m;
 //   closest: the surface-distance queries (distancesToSurface): surface samples of the street's
@@ -109,19 +109,6 @@ void buildTree(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * w.street.faces.size()));
 }
 
-/// The project's index with the cell size `terramesh eval --gt-lidar` uses (0.5 m).
-struct OurCloud {
-  explicit OurCloud(const std::vector<Eigen::Vector3d>& points) : index(points, 0.5) {}
-  datasets::PointCloudIndex index;
-  auto nearest(const Eigen::Vector3d& q, double max_distance_m) const { return index.nearest(q, max_distance_m); }
-};
-
-struct FlannCloud {
-  explicit FlannCloud(const std::vector<Eigen::Vector3d>& points) : index(points) {}
-  NanoflannCloud index;
-  auto nearest(const Eigen::Vector3d& q, double max_distance_m) const { return index.nearest(q, max_distance_m); }
-};
-
 template <class Cloud>
 void nearestPoints(benchmark::State& state) {
   const Workloads& w = workloads();
@@ -145,21 +132,21 @@ void buildCloud(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * w.lidar_cloud.size()));
 }
 
-BENCHMARK_TEMPLATE(castRays, datasets::TriangleBvh)->Name("rays/ours_bvh")->Unit(benchmark::kMillisecond);
+/// The index `terramesh eval --gt-lidar` uses.
+struct Cloud {
+  explicit Cloud(const std::vector<Eigen::Vector3d>& points) : index(points) {}
+  datasets::PointCloudIndex index;
+  auto nearest(const Eigen::Vector3d& q, double max_distance_m) const { return index.nearest(q, max_distance_m); }
+};
+
+BENCHMARK_TEMPLATE(castRays, datasets::TriangleBvh)->Name("rays/triangle_bvh_embree")->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(castRays, CgalTriangleTree)->Name("rays/cgal_aabb_tree")->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(closestPoints, datasets::TriangleBvh)->Name("closest/ours_bvh")->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(closestPoints, datasets::TriangleBvh)->Name("closest/triangle_bvh_embree")->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(closestPoints, CgalTriangleTree)->Name("closest/cgal_aabb_tree")->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(buildTree, datasets::TriangleBvh)->Name("build_mesh/ours_bvh")->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(buildTree, datasets::TriangleBvh)->Name("build_mesh/triangle_bvh_embree")->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(buildTree, CgalTriangleTree)->Name("build_mesh/cgal_aabb_tree")->Unit(benchmark::kMillisecond);
-#ifdef TERRAMESH_HAVE_EMBREE
-BENCHMARK_TEMPLATE(castRays, EmbreeTriangleScene)->Name("rays/embree")->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(closestPoints, EmbreeTriangleScene)->Name("closest/embree")->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(buildTree, EmbreeTriangleScene)->Name("build_mesh/embree")->Unit(benchmark::kMillisecond);
-#endif
-BENCHMARK_TEMPLATE(nearestPoints, OurCloud)->Name("nearest/ours_hashed_cells")->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(nearestPoints, FlannCloud)->Name("nearest/nanoflann_kdtree")->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(buildCloud, OurCloud)->Name("build_cloud/ours_hashed_cells")->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(buildCloud, FlannCloud)->Name("build_cloud/nanoflann_kdtree")->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(nearestPoints, Cloud)->Name("nearest/point_cloud_index_nanoflann")->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(buildCloud, Cloud)->Name("build_cloud/point_cloud_index_nanoflann")->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace terramesh::bench

@@ -4,7 +4,8 @@
 // Meshing and stream generation are excluded from the timings. Streams: the built-in 200 m street,
 // plus the stream files listed in TERRAMESH_TRAV_STREAMS (':'-separated, e.g. DIR/stream.tmstream
 // of `terramesh generate`). Counters: update median/p99 (wall and thread CPU), ratio to a full
-// recomputation, delta faces and real changes (churn netted out) per keyframe, full faces/s.
+// recomputation, delta faces and real changes (churn netted out) per keyframe, full faces/s, and
+// the CPU time of the mesher's two queries that TraversabilityMap::update adds to apply.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
@@ -117,6 +118,7 @@ void BM_LayersWhileMeshing(benchmark::State& state, const BenchStream* s, const 
   const int full_every = 5;
   std::vector<double> delta_sizes, incremental_s, full_s, ratio, faces_per_s;
   std::vector<double> incremental_cpu_s, full_cpu_s, ratio_cpu, faces_per_cpu_s;
+  std::vector<double> query_cpu_s;  // the mesher's changesSince + facesAround (TraversabilityMap::update)
   std::size_t recomputed = 0, updates = 0, faces_end = 0, delta_faces = 0, real_faces = 0;
   for (auto _ : state) {
     mesher::Mesher mesher{mesher::MesherConfig{}};
@@ -126,8 +128,10 @@ void BM_LayersWhileMeshing(benchmark::State& state, const BenchStream* s, const 
       const std::uint64_t revision = mesher.revision();
       datasets::applyEvent(mesher, event);
       if (!std::holds_alternative<mesher::Keyframe>(event)) continue;
+      const double query_cpu_start = threadCpuSeconds();
       const mesher::SurfaceDelta delta = mesher.changesSince(revision);
       const std::vector<mesher::SurfaceFace> around = mesher.facesAround(delta.touched_vertices);
+      query_cpu_s.push_back(threadCpuSeconds() - query_cpu_start);
       const auto start = std::chrono::steady_clock::now();
       const double cpu_start = threadCpuSeconds();
       const LayerUpdateStats stats = map.apply(delta, around);
@@ -162,6 +166,8 @@ void BM_LayersWhileMeshing(benchmark::State& state, const BenchStream* s, const 
   state.counters["update_p99_ms"] = 1e3 * percentile(incremental_s, 0.99);
   state.counters["update_cpu_median_ms"] = 1e3 * percentile(incremental_cpu_s, 0.5);
   state.counters["update_cpu_p99_ms"] = 1e3 * percentile(incremental_cpu_s, 0.99);
+  state.counters["mesher_queries_cpu_median_ms"] = 1e3 * percentile(query_cpu_s, 0.5);
+  state.counters["mesher_queries_cpu_p99_ms"] = 1e3 * percentile(query_cpu_s, 0.99);
   state.counters["full_cpu_median_ms"] = 1e3 * percentile(full_cpu_s, 0.5);
   state.counters["update_over_full_cpu_median"] = percentile(ratio_cpu, 0.5);
   state.counters["delta_faces_per_update"] = static_cast<double>(delta_faces) / static_cast<double>(updates);

@@ -29,3 +29,21 @@ if(TERRAMESH_SANITIZE)
   add_link_options(-fsanitize=${terramesh_sanitizers})
   message(STATUS "terramesh: sanitizers ${terramesh_sanitizers}, -O${TERRAMESH_SANITIZE_OPTIMIZE}")
 endif()
+
+# terramesh_sanitizer_ignorelist(SOURCE...)
+# Compiles only the given sources with cmake/sanitizer_ignorelist.txt: third-party UBSan reports
+# that are undefined behaviour in a library's header but harmless, each entry scoped to one
+# function and one check, with its reason there. Only the sources that instantiate the listed
+# functions get it (today the tests using CGAL's segment traverser as an oracle); anywhere else
+# the same report still aborts. clang only: gcc has no ignorelist and would still report it.
+set(TERRAMESH_SANITIZER_IGNORELIST "${CMAKE_CURRENT_LIST_DIR}/sanitizer_ignorelist.txt")
+function(terramesh_sanitizer_ignorelist)
+  if(TERRAMESH_SANITIZE MATCHES "undefined|enum" AND CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    # ccache 4.7 hashes the ignorelist's path, not its contents: a copy named by its MD5 makes an
+    # edited list recompile these sources instead of reusing stale objects.
+    file(MD5 "${TERRAMESH_SANITIZER_IGNORELIST}" ignorelist_md5)
+    set(ignorelist "${CMAKE_BINARY_DIR}/sanitizer_ignorelist-${ignorelist_md5}.txt")
+    configure_file("${TERRAMESH_SANITIZER_IGNORELIST}" "${ignorelist}" COPYONLY)
+    set_property(SOURCE ${ARGN} APPEND PROPERTY COMPILE_OPTIONS "-fsanitize-ignorelist=${ignorelist}")
+  endif()
+endfunction()

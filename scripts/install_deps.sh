@@ -7,10 +7,12 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev nlohmann-json3-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev libgdal-dev gdal-bin libompl-dev ompl-demos liboctomap-dev libpcl-dev
-  libcli11-dev libcpp-httplib-dev libnanoflann-dev python3-numpy python3-matplotlib python3-yaml ccache
+  libcli11-dev libcpp-httplib-dev libnanoflann-dev libembree-dev python3-numpy python3-matplotlib python3-yaml ccache
   chromium
   clang libclang-rt-dev
 )
+# Node.js and npm (the viewer bundle, its browser tests), unless a Node.js with its own npm is there.
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 
 missing=()
 for package in "${packages[@]}"; do

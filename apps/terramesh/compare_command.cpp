@@ -10,7 +10,6 @@
 #include <sstream>
 #include <variant>
 
-#include "baselines/planning_pairs.h"
 #include "baselines/slam_points.h"
 #include "baselines/surface_measures.h"
 #include "cli_args.h"
@@ -18,11 +17,13 @@
 #include "common/atomic_file.h"
 #include "common/input_error.h"
 #include "compare_maps.h"
+#include "compare_planning.h"
 #include "compare_report.h"
 #include "datasets/kitti_odometry_reader.h"
 #include "datasets/labeled_mesh.h"
 #include "datasets/similarity_transform.h"
 #include "datasets/stream_reader.h"
+#include "datasets/triangle_bvh.h"
 #include "evaluation/ground_truth_traversability.h"
 #include "evaluation/robot_limits.h"
 #include "mesher_options.h"
@@ -227,24 +228,52 @@ int runCompare(const std::vector<std::string>& args) {
   if (truth) say("ground truth ready: " + std::to_string(truth->truthRays()) + " rays");
 
   std::optional<evaluation::GroundTruthTraversability> labels;
-  std::vector<baselines::PlanningPair> pairs;
+  std::optional<datasets::TriangleBvh> truth_bvh;
+  std::vector<ComparePair> pairs;
+  std::vector<Eigen::Vector3d> cameras_T;
+  for (const Eigen::Vector3d& c : keyframeCentres(stream)) {
+    cameras_T.push_back(sim3 ? sim3->apply(c) : Eigen::Vector3d(c * proposed.metres_per_unit));
+  }
   if (profile) {
     setup.robot = profile->name + " (`" + *o.robot + "`)";
     if (labelled) {
       labels = evaluation::labelTraversability(*labelled, evaluation::robotLimitsFrom(*profile),
                                                evaluation::estimateUpFromSlopes(*labelled), {});
-      pairs = baselines::pairsOnTruth(*labels, o.pairs, o.seed, o.pair_min_distance_m);
-      setup.pairs = std::to_string(pairs.size()) + " drawn on the truth's largest traversable area (seed " +
-                    std::to_string(o.seed) + ", >= " + std::to_string(o.pair_min_distance_m) + " m apart)";
+      truth_bvh.emplace(labelled->mesh);
+      TruthPairsConfig pairs_config;
+      pairs_config.count = o.pairs;
+      pairs_config.seed = o.seed;
+      pairs_config.min_distance_m = o.pair_min_distance_m;
+      pairs_config.max_view_distance_m = proposed.max_camera_distance_m;
+      pairs_config.min_views = std::max(1, proposed.min_views);
+      const TruthPairs drawn = pairsOnObservedTruth(*labels, *truth_bvh, cameras_T, pairs_config);
+      pairs = drawn.pairs;
+      std::ostringstream text;
+      text.precision(4);
+      text << pairs.size() << " drawn on the connected part of the truth's traversable area that the stream "
+           << "observed and drove on (seed " << o.seed << ", >= " << o.pair_min_distance_m
+           << " m apart in a straight line): " << drawn.samples << " traversable samples on a " << pairs_config.cell_m
+           << " m grid, " << drawn.observed << " seen unoccluded by >= " << pairs_config.min_views
+           << " keyframes within " << pairs_config.max_view_distance_m << " m, joined within "
+           << pairs_config.link_radius_m << " m; the part under the camera path (nearest observed sample of "
+           << drawn.component_votes << " of " << cameras_T.size() << " keyframes) holds " << drawn.component_samples
+           << " (" << drawn.component_extent_m << " m across; the largest part " << drawn.largest_component_samples
+           << "); truth lengths by Dijkstra over those samples";
+      setup.pairs = text.str();
     } else {
       std::vector<Eigen::Vector3d> road;
-      for (const Eigen::Vector3d& c : keyframeCentres(stream)) {
-        road.push_back((sim3 ? sim3->apply(c) : Eigen::Vector3d(c * proposed.metres_per_unit)) - o.camera_height_m * up_T);
-      }
-      pairs = baselines::pairsOnPoints(road, o.pairs, o.seed, o.pair_min_distance_m);
+      for (const Eigen::Vector3d& c : cameras_T) road.push_back(c - o.camera_height_m * up_T);
+      pairs = pairsOnPoints(road, o.pairs, o.seed, o.pair_min_distance_m);
       setup.pairs = std::to_string(pairs.size()) + " among the keyframe centres lowered by " +
                     std::to_string(o.camera_height_m) + " m (the road under the camera; no labelled truth)";
     }
+  }
+  PathTruth path_truth;
+  if (labelled && profile) {
+    path_truth.mesh = &*labelled;
+    path_truth.bvh = &*truth_bvh;
+    path_truth.up_W = labels->up_W;
+    path_truth.max_slope_deg = profile->max_slope_deg;
   }
 
   planning::WalkabilityConfig walkability;
@@ -266,8 +295,9 @@ int runCompare(const std::vector<std::string>& args) {
         row.traversability = evaluation::scoreTraversability(*layered, *labels, {});
         row.has_traversability = true;
       }
-      row.planning = baselines::planPairs(*layered, pairs, walkability, o.snap_radius_m);
+      row.planning = planComparePairs(*layered, pairs, walkability, o.snap_radius_m, path_truth);
       row.has_planning = !pairs.empty();
+      if (row.has_planning) say(row.spec.name + ": planning " + row.planning.summary());
     }
     writeTopView(out / "topview" / (row.spec.slug + ".csv"), surface, layered ? &layered->layers : nullptr, up_T);
     row.measure_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -275,6 +305,7 @@ int runCompare(const std::vector<std::string>& args) {
   }
 
   writeCompareCsv(out / "compare.csv", rows);
+  if (!pairs.empty()) writePairsCsv(out / "pairs.csv", pairs, rows);
   bool figures = false;
   if (!o.no_figures) {
     const std::filesystem::path script = o.figures_script ? std::filesystem::path(*o.figures_script) : defaultFiguresScript();

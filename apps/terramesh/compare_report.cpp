@@ -31,7 +31,8 @@ void writeCompareCsv(const std::filesystem::path& path, const std::vector<Compar
          "completeness_within_0.25m,non_manifold_edges,non_manifold_vertices,boundary_edges,boundary_loops,"
          "components,genus,orientation_errors,traversability_precision,traversability_recall,traversability_f1,"
          "traversability_coverage,traversability_unknown_fraction,plan_pairs,plan_solved,plan_no_start_or_goal,"
-         "plan_unreachable,plan_mean_length_m,plan_mean_cost,plan_length_ratio\n";
+         "plan_unreachable,plan_mean_length_m,plan_mean_cost,plan_length_ratio,plan_truth_checked,plan_truth_valid,"
+         "walkable_faces,walkable_area_m2,walkable_components,largest_component_m2\n";
   const char* kinds[] = {"mesh", "voxels", "points"};
   for (const CompareRow& r : rows) {
     const auto& g = r.geometry;
@@ -59,7 +60,9 @@ void writeCompareCsv(const std::filesystem::path& path, const std::vector<Compar
         << fixed(r.has_traversability ? t.unknown_fraction : nan, 4) << ',';
     csv << p.pairs << ',' << p.solved << ',' << p.no_start_or_goal << ',' << p.unreachable << ','
         << fixed(r.has_planning ? p.mean_length_m : nan, 3) << ',' << fixed(r.has_planning ? p.mean_cost : nan, 3) << ','
-        << fixed(r.has_planning ? p.mean_length_ratio : nan, 4) << '\n';
+        << fixed(r.has_planning ? p.mean_length_ratio : nan, 4) << ',' << p.truth_checked << ',' << p.truth_valid << ','
+        << p.walkable_faces << ',' << fixed(p.walkable_area_m2, 2) << ',' << p.walkable_components << ','
+        << fixed(p.largest_component_m2, 2) << '\n';
   }
   writeFileAtomically(path, csv.str());
 }
@@ -101,6 +104,29 @@ void writeTopView(const std::filesystem::path& path, const mesher::TriangleMesh&
   writeFileAtomically(path, csv.str());
 }
 
+void writePairsCsv(const std::filesystem::path& path, const std::vector<ComparePair>& pairs,
+                   const std::vector<CompareRow>& rows) {
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "pair,start_x,start_y,start_z,goal_x,goal_y,goal_z,straight_m,truth_length_m";
+  for (const CompareRow& r : rows) {
+    if (r.has_planning) csv << ',' << r.spec.slug << ',' << r.spec.slug << "_truth";
+  }
+  csv << '\n';
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const ComparePair& p = pairs[i];
+    csv << i << ',' << p.start_W.x() << ',' << p.start_W.y() << ',' << p.start_W.z() << ',' << p.goal_W.x() << ','
+        << p.goal_W.y() << ',' << p.goal_W.z() << ',' << (p.goal_W - p.start_W).norm() << ',' << p.truth_length_m;
+    for (const CompareRow& r : rows) {
+      if (!r.has_planning) continue;
+      const bool known = i < r.planning.statuses.size();
+      csv << ',' << (known ? r.planning.statuses[i] : "") << ",\"" << (known ? r.planning.truth_reasons[i] : "") << '"';
+    }
+    csv << '\n';
+  }
+  writeFileAtomically(path, csv.str());
+}
+
 std::string compareMarkdown(const CompareSetup& setup, const std::vector<CompareRow>& rows, bool figures_drawn) {
   std::ostringstream md;
   md << "# terramesh compare\n\n"
@@ -112,11 +138,12 @@ std::string compareMarkdown(const CompareSetup& setup, const std::vector<Compare
      << "- start-goal pairs: " << (setup.pairs.empty() ? "none" : setup.pairs) << "\n\n";
   md << "| map | build (s) | peak RSS (MB) | extra peak (MB) | size (MB) | faces | accuracy median (m) | accuracy <= 0.25 m "
         "| completeness median (m) | completeness <= 0.25 m | depth coverage | non-manifold edges / vertices | "
-        "boundary loops | components | genus | traversability F1 | traversable covered | plan solved | length / truth |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "boundary loops | components | genus | traversability F1 | traversable covered | plan solved | plan length (m) | "
+        "plan cost | length / truth | valid on truth |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const CompareRow& r : rows) {
     if (!r.built.ok) {
-      md << "| " << r.spec.name << " | failed: " << r.built.error << " |||||||||||||||||\n";
+      md << "| " << r.spec.name << " | failed: " << r.built.error << " ||||||||||||||||||||\n";
       continue;
     }
     const auto& g = r.geometry;
@@ -131,9 +158,13 @@ std::string compareMarkdown(const CompareSetup& setup, const std::vector<Compare
        << m.components << " | " << m.genus << " | " << cell(r.has_traversability, r.traversability.f1, 3) << " | "
        << cell(r.has_traversability, r.traversability.coverage, 3) << " | ";
     if (r.has_planning) {
-      md << r.planning.solved << "/" << r.planning.pairs << " | " << fixed(r.planning.mean_length_ratio, 3) << " |\n";
+      const PlanningOutcome& p = r.planning;
+      md << p.solved << "/" << p.pairs << " | " << fixed(p.mean_length_m, 2) << " | " << fixed(p.mean_cost, 2) << " | "
+         << fixed(p.mean_length_ratio, 3) << " | ";
+      if (p.truth_checked > 0) md << p.truth_valid << "/" << p.truth_checked << " |\n";
+      else md << "- |\n";
     } else {
-      md << "- | - |\n";
+      md << "- | - | - | - | - |\n";
     }
   }
   md << "\nBuild time: the method's own work (mesher: every update and the final extraction; OctoMap: the "
@@ -146,8 +177,19 @@ std::string compareMarkdown(const CompareSetup& setup, const std::vector<Compare
         "over the whole surface. Traversability: our layers on every surface (`computeForMesh`), area-weighted F1 "
         "of free vs. the generator's per-robot labels (`traverse-eval`), and the share of the truly traversable "
         "area with a known map face within 0.5 m. Planning: graph A* (`planOnFaceGraph`) on the same pairs; length "
-        "/ truth is the mean over solved pairs of the path length over the shortest traversable length on the "
-        "truth.\n\n## Parameters\n\n";
+        "and cost are means over solved pairs (cost: metres weighted by 1 + 4 x face cost); length / truth is the "
+        "mean over solved pairs of the path length over the shortest traversable length on the truth; valid on "
+        "truth: solved paths drivable on the labelled truth (planner_demo's ground-truth check).\n\n";
+  bool any_planning = false;
+  for (const CompareRow& r : rows) any_planning = any_planning || r.has_planning;
+  if (any_planning) {
+    md << "## Planning, per map\n\n";
+    for (const CompareRow& r : rows) {
+      if (r.has_planning) md << "- **" << r.spec.name << "**: " << r.planning.summary() << '\n';
+    }
+    md << "\nPer pair: `pairs.csv`.\n\n";
+  }
+  md << "## Parameters\n\n";
   for (const CompareRow& r : rows) {
     md << "- **" << r.spec.name << "**: " << (r.built.ok ? r.built.parameters : r.built.error) << " (`"
        << r.built.native_file.filename().string() << "`)\n";

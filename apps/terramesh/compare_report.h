@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "baselines/planning_pairs.h"
 #include "baselines/surface_measures.h"
 #include "compare_maps.h"
+#include "compare_planning.h"
 #include "evaluation/traversability_score.h"
 #include "traversability/layered_mesh.h"
 
@@ -24,7 +24,7 @@ struct CompareRow {
   bool has_traversability = false;
   evaluation::TraversabilityScore traversability;
   bool has_planning = false;
-  baselines::PlanningScore planning;
+  PlanningOutcome planning;
 };
 
 /// What the run was, for the report's header.
@@ -49,6 +49,10 @@ void writeCompareCsv(const std::filesystem::path& path, const std::vector<Compar
 void writeTopView(const std::filesystem::path& path, const mesher::TriangleMesh& mesh,
                   const std::vector<traversability::FaceLayers>* layers, const Eigen::Vector3d& up_W,
                   std::size_t max_faces = 400000);
+
+/// pairs.csv: one line per pair (start, goal, truth length) with every map's status.
+void writePairsCsv(const std::filesystem::path& path, const std::vector<ComparePair>& pairs,
+                   const std::vector<CompareRow>& rows);
 
 /// report.md: the setup, the table, each map's parameters, the figures and how the columns
 /// are measured.

@@ -199,7 +199,7 @@ int runEval(const std::vector<std::string>& args) {
     for (const Eigen::Vector3d& p : mesh_samples) {
       if (truth.covers(p, config.max_depth_m, &camera)) covered_samples.push_back(p);
     }
-    const datasets::PointCloudIndex cloud(truth.returns_W, 0.5);
+    const datasets::PointCloudIndex cloud(truth.returns_W);
     accuracy = datasets::distancesToPoints(covered_samples, cloud, match_radius_m);
     report << "truth lidar " << *options.gt_lidar << " frames " << options.frames << '\n'
            << "truth_scans " << truth.world_from_sensor.size() << '\n'

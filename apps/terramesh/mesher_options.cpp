@@ -1,6 +1,8 @@
 #include "mesher_options.h"
 
 #include <algorithm>
+#include <cmath>
+#include <exception>
 #include <limits>
 
 namespace terramesh::cli {
@@ -30,6 +32,27 @@ void disableTechniques(const std::string& list, mesher::MesherConfig& config) {
     if (!known) throw UsageError("--disable: unknown technique \"" + name + "\"");
     start = comma + 1;
   }
+}
+
+/// Parses "X,Y,Z" (three finite numbers) for --steiner-origin-offset-m.
+Eigen::Vector3d parseOffset(const std::string& text) {
+  Eigen::Vector3d offset;
+  std::size_t start = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::size_t comma = axis < 2 ? text.find(',', start) : text.size();
+    std::size_t used = 0;
+    const std::string field = comma == std::string::npos ? std::string() : text.substr(start, comma - start);
+    try {
+      offset[axis] = std::stod(field, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (field.empty() || used != field.size() || !std::isfinite(offset[axis])) {
+      throw UsageError("--steiner-origin-offset-m: expected three numbers X,Y,Z (metres), got \"" + text + "\"");
+    }
+    start = comma + 1;
+  }
+  return offset;
 }
 
 }  // namespace
@@ -92,6 +115,14 @@ void addMesherOptions(CLI::App& app, MesherOptions& options) {
                  "ablation: comma-separated techniques to switch off: incremental-steiner-grid, "
                  "local-enclosing-set, boundary-hash, next-cell-cache, ray-scheduler, edge-pass")
       ->option_text("LIST");
+  app.add_option("--steiner-origin-offset-m", options.steiner_origin_offset_m,
+                 "experiment: shift the Steiner lattice by X,Y,Z metres from where the mesher places it "
+                 "(default 0,0,0; for studying how its placement changes the surface, docs/accuracy.md)")
+      ->option_text("X,Y,Z");
+  app.add_option("--steiner-clearance-steps", options.steiner_clearance_steps,
+                 "leave out the Steiner nodes closer than F grid steps to a point, in [0, 0.5) (default: the "
+                 "mode's; 0 keeps every node, as in the baselines)")
+      ->option_text("F");
 }
 
 bool autoMaxDistance(const MesherOptions& options, const datasets::SlamStream& stream) {
@@ -132,6 +163,8 @@ mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::Mesh
   config.enclosing_radius_cells = options.enclosing_radius_cells;
   config.camera_enclosing_radius_cells = options.camera_enclosing_radius_cells;
   if (options.disable) disableTechniques(*options.disable, config);
+  if (options.steiner_clearance_steps) config.steiner_clearance_steps = *options.steiner_clearance_steps;
+  if (options.steiner_origin_offset_m) config.steiner_origin_offset_m = parseOffset(*options.steiner_origin_offset_m);
   if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = streamBounds(stream);
   const std::vector<std::string> problems = config.problems();
   if (!problems.empty()) {

@@ -23,6 +23,8 @@ struct MesherOptions {
   int enclosing_radius_cells = 2;
   int camera_enclosing_radius_cells = 0;
   std::optional<std::string> disable;  ///< comma-separated technique names
+  std::optional<std::string> steiner_origin_offset_m;  ///< "X,Y,Z" metres (experiment option)
+  std::optional<double> steiner_clearance_steps;
 };
 
 /// Adds the mesher options to `app`, filling `options` when it parses.

@@ -120,21 +120,14 @@ TraversabilitySession::TraversabilitySession(traversability::RobotProfile profil
 }
 
 void TraversabilitySession::update(const mesher::Mesher& mesher, const std::string& event) {
-  const mesher::SurfaceDelta delta = mesher.changesSince(revision_);
-  traversability::LayerUpdateStats stats;
-  if (!delta.complete) {
-    stats = map_->reset(mesher.surfaceFaces());
-    ++full_rebuilds_;
-  } else if (!delta.empty()) {
-    stats = map_->apply(delta);
-  } else {
-    stats.faces_total = map_->faceCount();
-  }
+  // update() also refreshes the observation counts of faces that were not replaced (`rays`).
+  const traversability::LayerUpdateStats stats = map_->update(mesher, revision_);
+  if (stats.full_rebuild) ++full_rebuilds_;
   revision_ = mesher.revision();
   update_seconds_ += stats.seconds;
   csv_ << event << ',' << keyframes_ << ',' << revision_ << ',' << stats.faces_added << ','
        << stats.faces_removed << ',' << stats.faces_recomputed << ',' << stats.faces_total << ','
-       << (stats.full_rebuild || !delta.complete ? 1 : 0) << ',' << stats.seconds << ',';
+       << (stats.full_rebuild ? 1 : 0) << ',' << stats.seconds << ',';
 }
 
 traversability::ExportReport TraversabilitySession::exportNow() {

@@ -73,7 +73,7 @@ GeometryTruth GeometryTruth::fromLidar(const std::filesystem::path& sequence, co
   impl->config = config;
   impl->lidar.emplace(datasets::readLidarTruth(sequence, options, impl->camera, config.depth));
   impl->rays = impl->lidar->rays;
-  impl->lidar_cloud.emplace(impl->lidar->returns_W, 0.5);
+  impl->lidar_cloud.emplace(impl->lidar->returns_W);
   impl->finishRays();
   return GeometryTruth(std::move(impl));
 }

@@ -1,8 +1,10 @@
 #include "datasets/triangle_bvh.h"
 
+#include <embree3/rtcore.h>
+
 #include <algorithm>
-#include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -10,36 +12,34 @@
 namespace terramesh::datasets {
 namespace {
 
-constexpr int kMaxLeafFaces = 4;
-constexpr int kSahBins = 16;
-// Past this depth the builder splits at the object median, which bounds the total depth by
-// kMedianSplitDepth + log2(F) and so the fixed traversal stacks below.
-constexpr int kMedianSplitDepth = 40;
-constexpr int kStackSize = 128;
+// Embree works in single precision. Its answers are refined in double on the faces it reports;
+// it is only trusted to report every face whose double-precision answer could be the best one.
+// That holds when its search is widened by this much of the scene's scale (float rounding of
+// the vertices, the query and Embree's own arithmetic stay well below it).
+constexpr double kFloatSlack = 64.0 * std::numeric_limits<float>::epsilon();
 
 struct Triangle {
   Eigen::Vector3d v0, v1, v2;
-  std::uint32_t face;
 };
 
-/// Internal node: children are at index + 1 and `right`. Leaf: faces [first, first + count).
-struct Node {
-  Eigen::AlignedBox3d box;
-  std::uint32_t first_or_right = 0;
-  std::uint32_t count = 0;
-};
+float roundedUp(double value) {
+  if (!std::isfinite(value)) return std::numeric_limits<float>::infinity();
+  return std::nextafter(static_cast<float>(value), std::numeric_limits<float>::infinity());
+}
 
-bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
+float roundedDown(double value) {
+  return std::max(0.0f, std::nextafter(static_cast<float>(value), -std::numeric_limits<float>::infinity()));
+}
 
-/// Per-ray constants of the watertight test: the dominant axis kz and the shear that maps the
-/// direction onto +z.
+/// Per-ray constants of the watertight test (Woop, Benthin and Wald, JCGT 2013): the dominant
+/// axis kz and the shear that maps the direction onto +z.
 struct PreparedRay {
   Eigen::Vector3d origin;
-  Eigen::Vector3d inverse_direction;
+  Eigen::Vector3d direction;
   int kx = 0, ky = 1, kz = 2;
   double shear_x = 0, shear_y = 0, shear_z = 1;
 
-  PreparedRay(const Eigen::Vector3d& o, const Eigen::Vector3d& unit_direction) : origin(o) {
+  PreparedRay(const Eigen::Vector3d& o, const Eigen::Vector3d& unit_direction) : origin(o), direction(unit_direction) {
     Eigen::Index axis = 0;
     unit_direction.cwiseAbs().maxCoeff(&axis);
     kz = static_cast<int>(axis);
@@ -49,30 +49,10 @@ struct PreparedRay {
     shear_x = unit_direction[kx] / unit_direction[kz];
     shear_y = unit_direction[ky] / unit_direction[kz];
     shear_z = 1.0 / unit_direction[kz];
-    for (int i = 0; i < 3; ++i) {
-      // A tiny stand-in for zero keeps the slab test free of 0 * inf.
-      const double d = unit_direction[i];
-      const double safe = std::abs(d) < 1e-300 ? std::copysign(1e-300, d) : d;
-      inverse_direction[i] = 1.0 / safe;
-    }
   }
 
-  /// Parameter interval [near, far] of the ray inside `box`, intersected with [t_min, t_max].
-  bool hitsBox(const Eigen::AlignedBox3d& box, double t_min, double t_max) const {
-    double near = t_min;
-    double far = t_max;
-    for (int i = 0; i < 3; ++i) {
-      double t0 = (box.min()[i] - origin[i]) * inverse_direction[i];
-      double t1 = (box.max()[i] - origin[i]) * inverse_direction[i];
-      if (t0 > t1) std::swap(t0, t1);
-      near = std::max(near, t0);
-      far = std::min(far, t1 * (1.0 + 4.0 * std::numeric_limits<double>::epsilon()));
-    }
-    return near <= far;
-  }
-
-  /// Watertight ray-triangle test; returns the ray parameter of the hit in [t_min, t_max].
-  std::optional<double> hitTriangle(const Triangle& tri, double t_min, double t_max) const {
+  /// Watertight ray-triangle test in double precision; the ray parameter of the hit, if any.
+  std::optional<double> hitTriangle(const Triangle& tri) const {
     const Eigen::Vector3d a = tri.v0 - origin;
     const Eigen::Vector3d b = tri.v1 - origin;
     const Eigen::Vector3d c = tri.v2 - origin;
@@ -92,15 +72,22 @@ struct PreparedRay {
     if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return std::nullopt;
     const double det = u + v + w;
     if (det == 0.0) return std::nullopt;
-    const double t = (u * shear_z * a[kz] + v * shear_z * b[kz] + w * shear_z * c[kz]) / det;
-    if (!(t >= t_min && t <= t_max)) return std::nullopt;
-    return t;
+    return (u * shear_z * a[kz] + v * shear_z * b[kz] + w * shear_z * c[kz]) / det;
+  }
+
+  /// Where the ray meets the plane of `tri`, for a face Embree hits but the double test misses
+  /// by a rounding error (a ray through an edge or vertex); nothing for a degenerate face or a
+  /// ray in its plane.
+  std::optional<double> hitPlane(const Triangle& tri) const {
+    const Eigen::Vector3d normal = (tri.v1 - tri.v0).cross(tri.v2 - tri.v0);
+    const double along = normal.dot(direction);
+    if (!(std::abs(along) > 1e-12 * normal.norm())) return std::nullopt;
+    return normal.dot(tri.v0 - origin) / along;
   }
 };
 
 /// Closest point to `p` on the segment [a, b].
-Eigen::Vector3d closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                 const Eigen::Vector3d& b) {
+Eigen::Vector3d closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const Eigen::Vector3d ab = b - a;
   const double length2 = ab.squaredNorm();
   if (length2 == 0.0) return a;
@@ -108,12 +95,126 @@ Eigen::Vector3d closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d
   return a + t * ab;
 }
 
-/// Closest point to `p` on a triangle (Ericson, Real-Time Collision Detection, 5.1.5); degenerate
-/// triangles fall back to their edges.
-Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Triangle& tri) {
-  const Eigen::Vector3d& a = tri.v0;
-  const Eigen::Vector3d& b = tri.v1;
-  const Eigen::Vector3d& c = tri.v2;
+/// A first-hit or occlusion query in flight: the ray in double precision and the best faces
+/// found so far. Embree's context comes first so that the filters can find the query from it.
+struct RayQuery {
+  RTCIntersectContext context;
+  const std::vector<Triangle>* triangles = nullptr;
+  PreparedRay ray;
+  double t_min = 0.0;       ///< mesh units along `ray`
+  double t_max = 0.0;       ///< mesh units along `ray`
+  bool open_ends = false;   ///< occlusion: hits must lie strictly inside (t_min, t_max)
+  double slack_m = 0.0;     ///< widening of Embree's search, mesh units
+  double shift_m = 0.0;     ///< Embree's origin lies this far behind `ray.origin`
+  float embree_t_far = 0;   ///< Embree's current far limit
+  // Best hit passing the double-precision test, and best hit Embree alone reports.
+  double strict_t = std::numeric_limits<double>::infinity();
+  std::uint32_t strict_face = 0;
+  double near_t = std::numeric_limits<double>::infinity();
+  std::uint32_t near_face = 0;
+
+  RayQuery(const std::vector<Triangle>& tris, const PreparedRay& r) : triangles(&tris), ray(r) {
+    rtcInitIntersectContext(&context);
+  }
+
+  /// The double-precision distance of face `face`, which Embree hit at `embree_t` along its ray,
+  /// if it counts: the watertight test first; otherwise (Embree's hit grazes an edge within
+  /// float rounding) the ray's crossing with the face's plane, unless that disagrees with
+  /// Embree's distance (a ray almost in the plane: no hit, as in double precision).
+  std::optional<double> refine(std::uint32_t face, float embree_t, bool& strict) const {
+    const Triangle& tri = (*triangles)[face];
+    std::optional<double> t = ray.hitTriangle(tri);
+    strict = t.has_value();
+    if (!t) {
+      const double float_t = static_cast<double>(embree_t) - shift_m;
+      t = ray.hitPlane(tri);
+      if (!t || std::abs(*t - float_t) > slack_m) return std::nullopt;
+    }
+    const bool inside = open_ends ? (*t > t_min && *t < t_max) : (*t >= t_min && *t <= t_max);
+    if (!inside) return std::nullopt;
+    return t;
+  }
+
+  static bool better(double t, std::uint32_t face, double best_t, std::uint32_t best_face) {
+    return t < best_t || (t == best_t && face < best_face);
+  }
+};
+
+RayQuery& queryOf(const RTCFilterFunctionNArguments* args) {
+  // Standard layout with the Embree context as first member: this is the query Embree was given.
+  return *reinterpret_cast<RayQuery*>(args->context);
+}
+
+/// Intersection filter: records every face Embree reports that improves the double-precision
+/// answer, and keeps Embree searching slightly beyond it (rather than stopping at its float
+/// distance) so that faces tied or nearly tied in double precision are all examined.
+void firstHitFilter(const RTCFilterFunctionNArguments* args) {
+  RayQuery& query = queryOf(args);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const std::uint32_t face = RTCHitN_primID(args->hit, args->N, i);
+    bool strict = false;
+    const std::optional<double> t = query.refine(face, RTCRayN_tfar(args->ray, args->N, i), strict);
+    bool improved = false;
+    if (t && strict && RayQuery::better(*t, face, query.strict_t, query.strict_face)) {
+      query.strict_t = *t;
+      query.strict_face = face;
+      improved = true;
+    } else if (t && !strict && RayQuery::better(*t, face, query.near_t, query.near_face)) {
+      query.near_t = *t;
+      query.near_face = face;
+      improved = true;
+    }
+    if (!improved) {
+      args->valid[i] = 0;  // Embree restores its previous far limit
+      continue;
+    }
+    const double best = std::min(query.strict_t, query.near_t);
+    query.embree_t_far = std::min(query.embree_t_far, roundedUp(best + query.shift_m + query.slack_m));
+    RTCRayN_tfar(args->ray, args->N, i) = query.embree_t_far;
+  }
+}
+
+/// Occlusion filter: a face occludes when its double-precision distance lies inside the segment.
+void occlusionFilter(const RTCFilterFunctionNArguments* args) {
+  RayQuery& query = queryOf(args);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    bool strict = false;
+    if (!query.refine(RTCHitN_primID(args->hit, args->N, i), RTCRayN_tfar(args->ray, args->N, i), strict)) {
+      args->valid[i] = 0;
+    }
+  }
+}
+
+/// A closest-point query in flight.
+struct PointQuery {
+  const std::vector<Triangle>* triangles = nullptr;
+  Eigen::Vector3d query;
+  double slack_m = 0.0;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  SurfacePoint best;
+};
+
+/// Point-query callback: the exact double-precision distance to each face Embree offers; the
+/// search radius shrinks to the best distance plus the float slack.
+bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
+  auto& state = *static_cast<PointQuery*>(args->userPtr);
+  const Triangle& tri = (*state.triangles)[args->primID];
+  const Eigen::Vector3d point = closestPointOnTriangle(state.query, tri.v0, tri.v1, tri.v2);
+  const double d2 = (point - state.query).squaredNorm();
+  if (!(d2 < state.best_d2 || (d2 == state.best_d2 && args->primID < state.best.face))) return false;
+  state.best_d2 = d2;
+  state.best.point = point;
+  state.best.face = args->primID;
+  args->query->radius = roundedUp(std::sqrt(d2) + state.slack_m);
+  return true;
+}
+
+}  // namespace
+
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                       const Eigen::Vector3d& c) {
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
   const double scale = std::max(ab.squaredNorm(), ac.squaredNorm());
   if (ab.cross(ac).squaredNorm() <= 1e-24 * scale * scale) {
@@ -145,192 +246,103 @@ Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Triangle& tri)
   return a + ab * (vb * denominator) + ac * (vc * denominator);
 }
 
-Eigen::AlignedBox3d triangleBox(const Triangle& tri) {
-  Eigen::AlignedBox3d box(tri.v0);
-  box.extend(tri.v1);
-  box.extend(tri.v2);
-  return box;
-}
-
-/// Grows a box by a relative margin so that rounding in the slab test never culls a face the
-/// exact triangle test would hit.
-Eigen::AlignedBox3d padded(const Eigen::AlignedBox3d& box) {
-  const double magnitude = std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
-  const double pad = 1e-9 * magnitude + 1e-12;
-  return Eigen::AlignedBox3d(box.min().array() - pad, box.max().array() + pad);
-}
-
-}  // namespace
-
 struct TriangleBvh::Impl {
-  std::vector<Node> nodes;
-  std::vector<Triangle> triangles;  // in leaf order
+  std::vector<Triangle> triangles;  ///< by face index, in double precision
   Eigen::AlignedBox3d bounds;
+  /// Embree sees the mesh moved by -centre (smaller coordinates, smaller float rounding).
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double extent_m = 0.0;  ///< largest |coordinate - centre| of the mesh
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
 
-  struct BuildItem {
-    Eigen::AlignedBox3d box;
-    Eigen::Vector3d centroid;
-    std::uint32_t face;
-  };
-
-  void build(std::vector<BuildItem>& items, const std::vector<Triangle>& by_face) {
-    if (items.empty()) return;
-    nodes.reserve(2 * items.size() / kMaxLeafFaces + 1);
-    buildNode(items, 0, items.size(), 0);
-    triangles.reserve(items.size());
-    for (const BuildItem& item : items) triangles.push_back(by_face[item.face]);
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
   }
 
-  /// Builds the subtree over items [begin, end) and returns its node index.
-  std::uint32_t buildNode(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth) {
-    const auto index = static_cast<std::uint32_t>(nodes.size());
-    nodes.emplace_back();
-    Eigen::AlignedBox3d box;
-    Eigen::AlignedBox3d centroid_box;
-    for (std::size_t i = begin; i < end; ++i) {
-      box.extend(items[i].box);
-      centroid_box.extend(items[i].centroid);
+  void build(const mesher::TriangleMesh& mesh) {
+    device = rtcNewDevice("threads=1");
+    if (!device) throw std::runtime_error("TriangleBvh: Embree could not create a device");
+    scene = rtcNewScene(device);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), mesh.vertices.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), mesh.faces.size()));
+    if (!vertices || !indices) {
+      rtcReleaseGeometry(geometry);
+      throw std::runtime_error("TriangleBvh: Embree could not allocate the geometry");
     }
-    nodes[index].box = padded(box);
-    const std::size_t count = end - begin;
-    Eigen::Index axis = 0;
-    const double extent = centroid_box.sizes().maxCoeff(&axis);
-    if (count <= static_cast<std::size_t>(kMaxLeafFaces) || extent <= 0.0) {
-      makeLeaf(index, begin, count);
-      return index;
-    }
-    std::size_t middle = begin;
-    if (depth < kMedianSplitDepth) middle = sahSplit(items, begin, end, centroid_box, static_cast<int>(axis));
-    if (middle == begin || middle == end) {
-      middle = begin + count / 2;
-      std::nth_element(items.begin() + static_cast<std::ptrdiff_t>(begin),
-                       items.begin() + static_cast<std::ptrdiff_t>(middle),
-                       items.begin() + static_cast<std::ptrdiff_t>(end),
-                       [axis](const BuildItem& x, const BuildItem& y) {
-                         return x.centroid[axis] < y.centroid[axis];
-                       });
-    }
-    buildNode(items, begin, middle, depth + 1);
-    const std::uint32_t right = buildNode(items, middle, end, depth + 1);
-    nodes[index].first_or_right = right;
-    return index;
-  }
-
-  void makeLeaf(std::uint32_t index, std::size_t begin, std::size_t count) {
-    nodes[index].first_or_right = static_cast<std::uint32_t>(begin);
-    nodes[index].count = static_cast<std::uint32_t>(count);
-  }
-
-  /// Binned surface-area heuristic along `axis`; partitions the items and returns the split
-  /// position, or `begin` when keeping a leaf is cheaper (only for small counts).
-  static std::size_t sahSplit(std::vector<BuildItem>& items, std::size_t begin, std::size_t end,
-                              const Eigen::AlignedBox3d& centroid_box, int axis) {
-    struct Bin {
-      Eigen::AlignedBox3d box;
-      std::size_t count = 0;
-    };
-    std::array<Bin, kSahBins> bins;
-    const double lo = centroid_box.min()[axis];
-    const double scale = kSahBins / (centroid_box.max()[axis] - lo);
-    auto binOf = [&](const BuildItem& item) {
-      const int bin = static_cast<int>((item.centroid[axis] - lo) * scale);
-      return std::clamp(bin, 0, kSahBins - 1);
-    };
-    for (std::size_t i = begin; i < end; ++i) {
-      Bin& bin = bins[static_cast<std::size_t>(binOf(items[i]))];
-      bin.box.extend(items[i].box);
-      ++bin.count;
-    }
-    auto area = [](const Eigen::AlignedBox3d& box) {
-      if (box.isEmpty()) return 0.0;
-      const Eigen::Vector3d s = box.sizes();
-      return s.x() * s.y() + s.y() * s.z() + s.z() * s.x();
-    };
-    std::array<double, kSahBins - 1> right_cost{};
-    Eigen::AlignedBox3d accumulated;
-    std::size_t accumulated_count = 0;
-    for (int i = kSahBins - 1; i > 0; --i) {
-      accumulated.extend(bins[static_cast<std::size_t>(i)].box);
-      accumulated_count += bins[static_cast<std::size_t>(i)].count;
-      right_cost[static_cast<std::size_t>(i - 1)] = area(accumulated) * static_cast<double>(accumulated_count);
-    }
-    accumulated.setEmpty();
-    accumulated_count = 0;
-    double best_cost = std::numeric_limits<double>::infinity();
-    int best_split = -1;
-    for (int i = 0; i < kSahBins - 1; ++i) {
-      accumulated.extend(bins[static_cast<std::size_t>(i)].box);
-      accumulated_count += bins[static_cast<std::size_t>(i)].count;
-      const double cost = area(accumulated) * static_cast<double>(accumulated_count) +
-                          right_cost[static_cast<std::size_t>(i)];
-      if (cost < best_cost) {
-        best_cost = cost;
-        best_split = i;
+    // Shared vertices stay shared in float, so Embree's robust mode keeps closed meshes closed.
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const Eigen::Vector3d local = mesh.vertices[i] - centre;
+      for (Eigen::Index axis = 0; axis < 3; ++axis) {
+        vertices[3 * i + static_cast<std::size_t>(axis)] = static_cast<float>(local[axis]);
       }
     }
-    if (best_split < 0) return begin;
-    const auto middle = std::partition(items.begin() + static_cast<std::ptrdiff_t>(begin),
-                                       items.begin() + static_cast<std::ptrdiff_t>(end),
-                                       [&](const BuildItem& item) { return binOf(item) <= best_split; });
-    return static_cast<std::size_t>(middle - items.begin());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+      for (std::size_t k = 0; k < 3; ++k) indices[3 * f + k] = mesh.faces[f][k];
+    }
+    rtcSetGeometryIntersectFilterFunction(geometry, firstHitFilter);
+    rtcSetGeometryOccludedFilterFunction(geometry, occlusionFilter);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene);
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw std::runtime_error("TriangleBvh: Embree failed to build");
   }
 
-  /// Visits the leaves whose boxes the ray meets, near child first. `visit(triangle, t_max)`
-  /// returns the new t_max (shrinking it prunes the traversal) or a negative number to stop.
-  template <class Visit>
-  void traverseRay(const PreparedRay& ray, double t_min, double t_max, Visit&& visit) const {
-    if (nodes.empty()) return;
-    std::uint32_t stack[kStackSize];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = nodes[stack[--top]];
-      if (!ray.hitsBox(node.box, t_min, t_max)) continue;
-      if (node.count > 0) {
-        for (std::uint32_t i = node.first_or_right; i < node.first_or_right + node.count; ++i) {
-          t_max = visit(triangles[i], t_max);
-          if (t_max < 0) return;
-        }
-        continue;
-      }
-      const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes.data()) + 1;
-      const std::uint32_t right = node.first_or_right;
-      // Push the far child first so the near one (along the dominant axis) is visited first.
-      const bool left_nearer = nodes[left].box.center()[ray.kz] <= nodes[right].box.center()[ray.kz];
-      const bool left_first = left_nearer == (ray.inverse_direction[ray.kz] > 0);
-      stack[top++] = left_first ? right : left;
-      stack[top++] = left_first ? left : right;
-    }
+  /// The float slack of a query whose points lie within `reach_m` of the centre.
+  double slackFor(double reach_m) const { return kFloatSlack * (extent_m + reach_m) + 1e-30; }
+
+  /// An Embree ray for `ray` covering [t_begin, t_end] (and the slack around it).
+  RTCRay embreeRay(RayQuery& query, double t_begin, double t_end) const {
+    const Eigen::Vector3d local = query.ray.origin - centre;
+    const double reach = local.cwiseAbs().maxCoeff() + (std::isfinite(t_end) ? t_end : 0.0);
+    query.slack_m = slackFor(reach);
+    query.shift_m = query.slack_m;
+    const Eigen::Vector3d start = local - query.shift_m * query.ray.direction;
+    RTCRay ray{};
+    ray.org_x = static_cast<float>(start.x());
+    ray.org_y = static_cast<float>(start.y());
+    ray.org_z = static_cast<float>(start.z());
+    ray.dir_x = static_cast<float>(query.ray.direction.x());
+    ray.dir_y = static_cast<float>(query.ray.direction.y());
+    ray.dir_z = static_cast<float>(query.ray.direction.z());
+    ray.tnear = roundedDown(t_begin + query.shift_m - query.slack_m);
+    ray.tfar = roundedUp(t_end + query.shift_m + query.slack_m);
+    ray.mask = 0xFFFFFFFFu;
+    ray.flags = 0;
+    query.embree_t_far = ray.tfar;
+    return ray;
   }
 };
 
 TriangleBvh::TriangleBvh(const mesher::TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
-  std::vector<Triangle> by_face;
-  by_face.reserve(mesh.faces.size());
-  std::vector<Impl::BuildItem> items;
-  items.reserve(mesh.faces.size());
+  impl_->triangles.reserve(mesh.faces.size());
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
     Triangle tri;
     Eigen::Vector3d* corners[3] = {&tri.v0, &tri.v1, &tri.v2};
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t vertex = mesh.faces[f][static_cast<std::size_t>(k)];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t vertex = mesh.faces[f][k];
       if (vertex >= mesh.vertices.size()) {
         throw std::invalid_argument("TriangleBvh: face " + std::to_string(f) + " uses vertex " +
-                                    std::to_string(vertex) + " of " +
-                                    std::to_string(mesh.vertices.size()));
+                                    std::to_string(vertex) + " of " + std::to_string(mesh.vertices.size()));
       }
-      if (!finite(mesh.vertices[vertex])) {
+      if (!mesh.vertices[vertex].allFinite()) {
         throw std::invalid_argument("TriangleBvh: vertex " + std::to_string(vertex) + " is not finite");
       }
       *corners[k] = mesh.vertices[vertex];
+      impl_->bounds.extend(*corners[k]);
     }
-    tri.face = static_cast<std::uint32_t>(f);
-    const Eigen::AlignedBox3d box = triangleBox(tri);
-    impl_->bounds.extend(box);
-    items.push_back({box, (tri.v0 + tri.v1 + tri.v2) / 3.0, tri.face});
-    by_face.push_back(tri);
+    impl_->triangles.push_back(tri);
   }
-  impl_->build(items, by_face);
+  if (impl_->triangles.empty()) return;
+  impl_->centre = impl_->bounds.center();
+  impl_->extent_m = (impl_->bounds.max() - impl_->centre).cwiseAbs().maxCoeff();
+  impl_->build(mesh);
 }
 
 TriangleBvh::~TriangleBvh() = default;
@@ -341,88 +353,65 @@ std::size_t TriangleBvh::faceCount() const { return impl_->triangles.size(); }
 
 Eigen::AlignedBox3d TriangleBvh::bounds() const { return impl_->bounds; }
 
-std::optional<RayHit> TriangleBvh::firstHit(const Eigen::Vector3d& origin,
-                                            const Eigen::Vector3d& direction,
+std::optional<RayHit> TriangleBvh::firstHit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                                             double max_distance) const {
   const double length = direction.norm();
   if (!origin.allFinite() || !direction.allFinite() || length == 0.0) {
-    throw std::invalid_argument("TriangleBvh::firstHit: origin and direction must be finite, "
-                                "direction non-zero");
+    throw std::invalid_argument("TriangleBvh::firstHit: origin and direction must be finite, direction non-zero");
   }
+  if (!impl_->scene || !(max_distance >= 0.0)) return std::nullopt;
   const Eigen::Vector3d unit = direction / length;
-  const PreparedRay ray(origin, unit);
-  double best_t = std::numeric_limits<double>::infinity();
-  std::uint32_t best_face = 0;
-  impl_->traverseRay(ray, 0.0, max_distance, [&](const Triangle& tri, double t_max) {
-    const std::optional<double> t = ray.hitTriangle(tri, 0.0, t_max);
-    if (t && (*t < best_t || (*t == best_t && tri.face < best_face))) {
-      best_t = *t;
-      best_face = tri.face;
-    }
-    return std::min(t_max, best_t);
-  });
-  if (!std::isfinite(best_t)) return std::nullopt;
-  return RayHit{best_t, best_face, origin + best_t * unit};
+  RayQuery query(impl_->triangles, PreparedRay(origin, unit));
+  query.t_min = 0.0;
+  query.t_max = max_distance;
+  RTCRayHit ray_hit{};
+  ray_hit.ray = impl_->embreeRay(query, 0.0, max_distance);
+  ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &query.context, &ray_hit);
+  // A face Embree hits but the double test misses stands only where no face passing the double
+  // test lies at (practically) the same distance.
+  const bool strict = std::isfinite(query.strict_t) &&
+                      !(query.near_t + query.slack_m < query.strict_t);
+  if (strict) return RayHit{query.strict_t, query.strict_face, origin + query.strict_t * unit};
+  if (std::isfinite(query.near_t)) return RayHit{query.near_t, query.near_face, origin + query.near_t * unit};
+  return std::nullopt;
 }
 
-bool TriangleBvh::segmentOccluded(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                  double tolerance) const {
+bool TriangleBvh::segmentOccluded(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tolerance) const {
   if (!a.allFinite() || !b.allFinite() || !(tolerance >= 0.0)) {
     throw std::invalid_argument("TriangleBvh::segmentOccluded: ends must be finite and tolerance >= 0");
   }
   const double length = (b - a).norm();
-  if (length <= 2.0 * tolerance) return false;
-  const PreparedRay ray(a, (b - a) / length);
-  const double t_min = tolerance;
-  const double t_max = length - tolerance;
-  bool occluded = false;
-  impl_->traverseRay(ray, t_min, t_max, [&](const Triangle& tri, double current_max) {
-    const std::optional<double> t = ray.hitTriangle(tri, t_min, current_max);
-    if (t && *t > t_min && *t < t_max) {
-      occluded = true;
-      return -1.0;
-    }
-    return current_max;
-  });
-  return occluded;
+  if (length <= 2.0 * tolerance || !impl_->scene) return false;
+  RayQuery query(impl_->triangles, PreparedRay(a, (b - a) / length));
+  query.t_min = tolerance;
+  query.t_max = length - tolerance;
+  query.open_ends = true;
+  RTCRay ray = impl_->embreeRay(query, query.t_min, query.t_max);
+  rtcOccluded1(impl_->scene, &query.context, &ray);
+  return ray.tfar == -std::numeric_limits<float>::infinity();  // Embree's mark of an occluded ray
 }
 
 SurfacePoint TriangleBvh::closestPoint(const Eigen::Vector3d& query) const {
-  if (impl_->nodes.empty()) throw std::logic_error("TriangleBvh::closestPoint: the tree is empty");
+  if (!impl_->scene) throw std::logic_error("TriangleBvh::closestPoint: the tree is empty");
   if (!query.allFinite()) throw std::invalid_argument("TriangleBvh::closestPoint: query not finite");
-  const std::vector<Node>& nodes = impl_->nodes;
-  double best_d2 = std::numeric_limits<double>::infinity();
-  SurfacePoint best;
-  std::uint32_t stack[kStackSize];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const std::uint32_t index = stack[--top];
-    const Node& node = nodes[index];
-    if (node.box.squaredExteriorDistance(query) > best_d2) continue;
-    if (node.count > 0) {
-      for (std::uint32_t i = node.first_or_right; i < node.first_or_right + node.count; ++i) {
-        const Triangle& tri = impl_->triangles[i];
-        const Eigen::Vector3d point = closestOnTriangle(query, tri);
-        const double d2 = (point - query).squaredNorm();
-        if (d2 < best_d2 || (d2 == best_d2 && tri.face < best.face)) {
-          best_d2 = d2;
-          best.point = point;
-          best.face = tri.face;
-        }
-      }
-      continue;
-    }
-    const std::uint32_t left = index + 1;
-    const std::uint32_t right = node.first_or_right;
-    const double d_left = nodes[left].box.squaredExteriorDistance(query);
-    const double d_right = nodes[right].box.squaredExteriorDistance(query);
-    // Nearer child on top of the stack: it tightens best_d2 before the other is examined.
-    stack[top++] = d_left <= d_right ? right : left;
-    stack[top++] = d_left <= d_right ? left : right;
-  }
-  best.distance = std::sqrt(best_d2);
-  return best;
+  const Eigen::Vector3d local = query - impl_->centre;
+  PointQuery state;
+  state.triangles = &impl_->triangles;
+  state.query = query;
+  state.slack_m = impl_->slackFor(local.cwiseAbs().maxCoeff());
+  RTCPointQuery point_query{};
+  point_query.x = static_cast<float>(local.x());
+  point_query.y = static_cast<float>(local.y());
+  point_query.z = static_cast<float>(local.z());
+  point_query.time = 0.0f;
+  point_query.radius = std::numeric_limits<float>::infinity();
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(impl_->scene, &point_query, &context, closestPointCallback, &state);
+  if (!std::isfinite(state.best_d2)) throw std::logic_error("TriangleBvh::closestPoint: Embree offered no face");
+  state.best.distance = std::sqrt(state.best_d2);
+  return state.best;
 }
 
 }  // namespace terramesh::datasets

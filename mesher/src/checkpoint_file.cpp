@@ -25,6 +25,8 @@ void writeConfig(const MesherConfig& c, ByteWriter& out) {
   out.pod(c.enclosing_radius_cells);
   out.pod(c.camera_enclosing_radius_cells);
   out.pod(c.steiner_margin_cells);
+  for (int i = 0; i < 3; ++i) out.f64(c.steiner_origin_offset_m[i]);
+  out.f64(c.steiner_clearance_steps);
   out.f64(c.weight_crossed);
   out.f64(c.weight_neighbour);
   out.f64(c.weight_second_neighbour);
@@ -37,6 +39,7 @@ void writeConfig(const MesherConfig& c, ByteWriter& out) {
     out.u8(flag ? 1 : 0);
   }
   out.f64(c.edge_pass_min_weight);
+  out.u64(c.surface_history_max_bytes);
   out.u8(c.fixed_grid_bounds_W ? 1 : 0);
   if (c.fixed_grid_bounds_W) {
     for (int i = 0; i < 3; ++i) out.f64(c.fixed_grid_bounds_W->min_W[i]);
@@ -57,6 +60,8 @@ MesherConfig readConfig(ByteReader& in) {
   c.enclosing_radius_cells = in.pod<int>();
   c.camera_enclosing_radius_cells = in.pod<int>();
   c.steiner_margin_cells = in.pod<int>();
+  for (int i = 0; i < 3; ++i) c.steiner_origin_offset_m[i] = in.f64();
+  c.steiner_clearance_steps = in.f64();
   c.weight_crossed = in.f64();
   c.weight_neighbour = in.f64();
   c.weight_second_neighbour = in.f64();
@@ -71,6 +76,7 @@ MesherConfig readConfig(ByteReader& in) {
     *flag = in.flag();
   }
   c.edge_pass_min_weight = in.f64();
+  c.surface_history_max_bytes = static_cast<std::size_t>(in.u64());
   if (in.flag()) {
     AxisAlignedBox box;
     for (int i = 0; i < 3; ++i) box.min_W[i] = in.f64();

@@ -227,6 +227,7 @@ void CheckpointAccess::readSurfaceLog(SurfaceLog& log, ByteReader& in) {
   log.bytes_ = static_cast<std::size_t>(in.u64());
   const std::size_t records = in.count(32);
   if (records > log.kept_revisions_ || records > log.revision_) in.fail("at most as many history records as revisions");
+  if (log.bytes_ > log.kept_bytes_ && records > 1) in.fail("a surface history within surface_history_max_bytes");
   log.records_.clear();
   for (std::size_t r = 0; r < records; ++r) {
     SurfaceLog::Record record;

@@ -23,12 +23,12 @@ struct MapState {
   explicit MapState(const MesherConfig& cfg)
       : config(cfg),
         epochs(tri),
-        grid(cfg.steinerStepUnits()),
+        grid(cfg.steinerStepUnits(), cfg.steiner_origin_offset_m / cfg.metres_per_unit),
         hash(cfg.boundary_hash),
         outside(tri, grid, hash, epochs),
         weights(cfg.weight_crossed, cfg.weight_neighbour, cfg.weight_second_neighbour,
                 cfg.free_threshold, cfg.spread_cap),
-        surface_log(Mesher::kSurfaceHistoryRevisions) {
+        surface_log(Mesher::kSurfaceHistoryRevisions, cfg.surface_history_max_bytes) {
     outside.attachLog(surface_log, registry);
   }
 

@@ -65,6 +65,7 @@ void MesherConfig::setMode(MesherMode mode) {
   next_cell_cache = proposed_defaults.next_cell_cache;
   ray_scheduler = proposed_defaults.ray_scheduler;
   edge_growing_pass = proposed_defaults.edge_growing_pass;
+  steiner_clearance_steps = proposed_defaults.steiner_clearance_steps;
   if (mode == MesherMode::kProposed) return;
   // The baselines as the paper ran them: none of its techniques, and points inserted once at a
   // fixed position.
@@ -74,6 +75,7 @@ void MesherConfig::setMode(MesherMode mode) {
   next_cell_cache = false;
   ray_scheduler = false;
   edge_growing_pass = false;
+  steiner_clearance_steps = 0.0;
   point_policy = PointPolicy::kFixedPosition;
   if (mode == MesherMode::kLitvinov13) {
     // Litvinov & Lhuillier 2013: ray counts; a cell is free space once any ray crosses it.
@@ -102,10 +104,16 @@ std::vector<std::string> MesherConfig::problems() const {
           "enclosing_radius_cells must be in [1, 8]");
   require(std::isfinite(edge_pass_min_weight) && edge_pass_min_weight >= 0 && edge_pass_min_weight <= 1e6,
           "edge_pass_min_weight must be in [0, 1e6]");
+  require(surface_history_max_bytes >= (std::size_t{1} << 16) && surface_history_max_bytes <= (std::size_t{1} << 40),
+          "surface_history_max_bytes must be in [65536, 2^40] (64 KiB to 1 TiB)");
   require(camera_enclosing_radius_cells >= 0 && camera_enclosing_radius_cells <= 8,
           "camera_enclosing_radius_cells must be in [0, 8]");
   require(steiner_margin_cells >= 1 && steiner_margin_cells <= 16,
           "steiner_margin_cells must be in [1, 16]");
+  require(std::isfinite(steiner_clearance_steps) && steiner_clearance_steps >= 0 && steiner_clearance_steps < 0.5,
+          "steiner_clearance_steps must be in [0, 0.5)");
+  require(steiner_origin_offset_m.allFinite() && steiner_origin_offset_m.cwiseAbs().maxCoeff() <= 1e4,
+          "steiner_origin_offset_m must be finite, each component in [-10000, 10000]");
   for (const auto& [value, name] : {std::pair{weight_crossed, "weight_crossed"},
                                     std::pair{weight_neighbour, "weight_neighbour"},
                                     std::pair{weight_second_neighbour, "weight_second_neighbour"}}) {

@@ -13,6 +13,8 @@
 #include <string>
 #include <unordered_set>
 
+#include "steiner_clearance.h"
+
 namespace terramesh::mesher {
 
 using internal::CellHandle;
@@ -487,6 +489,16 @@ void Mesher::Impl::changeTopology(UpdatePlan& plan, UpdateStats& stats, StepCloc
   for (std::uint32_t index : plan.remove) removeVertexOf(index, false);
   for (std::uint32_t index : plan.move) removeVertexOf(index, true);
 
+  // Lattice nodes are kept clear of the points (steiner_clearance.h): those near a vacated
+  // position may return once every insertion is done.
+  internal::SteinerClearance clearance(state_, editor_);
+  std::vector<Eigen::Vector3d> vacated;
+  if (clearance.enabled()) {
+    for (std::uint32_t index : plan.remove) {
+      if (!state_.registry.point(index).inserted()) vacated.push_back(state_.registry.point(index).inserted_W);
+    }
+    for (std::uint32_t index : reinsert) vacated.push_back(state_.registry.point(index).inserted_W);
+  }
   const std::unordered_set<std::uint32_t> moving(reinsert.begin(), reinsert.end());
   std::vector<std::uint32_t> inserts = plan.insert;
   inserts.insert(inserts.end(), reinsert.begin(), reinsert.end());
@@ -494,9 +506,11 @@ void Mesher::Impl::changeTopology(UpdatePlan& plan, UpdateStats& stats, StepCloc
   for (std::uint32_t index : inserts) {
     internal::PointRecord& point = state_.registry.point(index);
     VertexHandle vertex;
+    const bool cleared = clearance.clearAround(point.latest_W, retrace_);
     const Result result = editor_.insert(point.latest_W, index, retrace_, vertex);
     if (result != Result::kInserted) {
       ++(result == Result::kDuplicate ? stats.duplicate_points : stats.dropped_points);
+      if (cleared) vacated.push_back(point.latest_W);
       continue;
     }
     point.vertex = vertex;
@@ -511,6 +525,10 @@ void Mesher::Impl::changeTopology(UpdatePlan& plan, UpdateStats& stats, StepCloc
       plan.trace.resize(first_new);
       traceNow(own, stats);
     }
+  }
+  if (clearance.restoreAround(vacated, retrace_) > 0 && !scheduled) {
+    StepClock::Scope scope(clock, Step::kRayTracing);
+    traceNow(retrace_, stats);
   }
 }
 

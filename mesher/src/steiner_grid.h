@@ -15,7 +15,9 @@ namespace terramesh::mesher::internal {
 /// synthetic data on round coordinates does not sit exactly on Steiner nodes or planes.
 class SteinerGrid {
  public:
-  explicit SteinerGrid(double step);
+  /// `origin_shift`: added to the origin the first cover call chooses (map units; the
+  /// experiment option MesherConfig::steiner_origin_offset_m).
+  explicit SteinerGrid(double step, const Eigen::Vector3d& origin_shift = Eigen::Vector3d::Zero());
 
   double step() const { return step_; }
   bool empty() const { return !initialized_; }
@@ -49,6 +51,7 @@ class SteinerGrid {
   std::vector<Eigen::Vector3d> growNodeBox(const GridKey& lo, const GridKey& hi);
 
   double step_;
+  Eigen::Vector3d origin_shift_;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   bool initialized_ = false;
   GridKey lo_;

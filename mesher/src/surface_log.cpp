@@ -124,7 +124,7 @@ void SurfaceLog::commit() {
   bytes_ += bytesOf(record);
   records_.push_back(std::move(record));
   ++revision_;
-  while (records_.size() > kept_revisions_) {
+  while (records_.size() > kept_revisions_ || (bytes_ > kept_bytes_ && records_.size() > 1)) {
     bytes_ -= bytesOf(records_.front());
     records_.pop_front();
   }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <vector>
@@ -19,10 +20,12 @@ WoundFace canonicalRotation(const WoundFace& face);
 /// (netted over the update), and which vertices it touched. Fed by OutsideSet (every change of O),
 /// the tracer (crossing changes of O-cells) and the update bookkeeping (rays gained or lost,
 /// vertices removed); Mesher::changesSince reads it. Memory is bounded by keeping only the last
-/// `kept_revisions` records.
+/// `kept_revisions` records, and dropping the oldest while they hold more than `kept_bytes`
+/// (memoryBytes()); the newest record is always kept.
 class SurfaceLog {
  public:
-  explicit SurfaceLog(std::uint64_t kept_revisions) : kept_revisions_(kept_revisions) {}
+  SurfaceLog(std::uint64_t kept_revisions, std::size_t kept_bytes)
+      : kept_revisions_(kept_revisions), kept_bytes_(kept_bytes) {}
 
   void faceAdded(const WoundFace& face) { faceEvent(face, faceHash(face), true); }
   void faceRemoved(const WoundFace& face) { faceEvent(face, faceHash(face), false); }
@@ -96,6 +99,7 @@ class SurfaceLog {
   static std::size_t bytesOf(const Record& record);
 
   std::uint64_t kept_revisions_;
+  std::size_t kept_bytes_;
   std::uint64_t revision_ = 0;
   std::deque<Record> records_;  ///< records_.back() leads to revision_
   std::size_t bytes_ = 0;

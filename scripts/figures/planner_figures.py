@@ -18,9 +18,16 @@ Figures (default: plots/ next to the CSV):
                           mean of its successful runs), with the spread across those queries; the
                           same for path length when the column is there; median planning time
                           with the 25-75% range (log axis when times span more than 100x)
+The pairs.csv files the project's planners write are read as they are (detected by header):
+  `terramesh plan MAP --random-pairs N -o OUT`  (pair,...,status,length_m,cost,time_s,graph_cost,
+                 graph_time_s): two planners per pair, "BIT* (OMPL)" and "graph A*"
+  `planner_demo`  (pair,map,status,length_m,cost,time_s,...): one planner per map (mesh, mesh_graph,
+                 octomap)
+  a pair is solved when its status is "solved" (graph A*: when graph_cost is finite).
 Exit codes: 0 done, 2 missing or malformed input (message on stderr).
 
   scripts/figures/planner_figures.py out/planning/planners.csv
+  scripts/figures/planner_figures.py out/demo/plan_pairs/pairs.csv
 """
 
 import argparse
@@ -50,8 +57,52 @@ def parse_args(argv):
     return parser.parse_args(argv)
 
 
+PLAN_PAIRS = ["pair", "status", "length_m", "cost", "time_s", "graph_cost", "graph_time_s"]
+DEMO_PAIRS = ["pair", "map", "status", "length_m", "cost", "time_s"]
+
+
+def header_of(path):
+    common.require_file(path)
+    with open(path, newline="", encoding="utf-8") as handle:
+        first = handle.readline()
+    return [name.strip() for name in first.strip().split(",")]
+
+
+def read_pairs(path, header):
+    """The runs of a pairs.csv of `terramesh plan --random-pairs` or `planner_demo`, or None."""
+    if all(name in header for name in DEMO_PAIRS):
+        columns = [(lambda row: row["map"], "status", "cost", "time_s", "length_m")]
+    elif all(name in header for name in PLAN_PAIRS):
+        columns = [(lambda row: "BIT* (OMPL)", "status", "cost", "time_s", "length_m"),
+                   (lambda row: "graph A*", None, "graph_cost", "graph_time_s", None)]
+    else:
+        return None
+    rows = common.read_csv(path, ["pair", "cost", "time_s"])
+    if not rows:
+        raise common.InputError(path, "", "holds no pair (only a header)")
+    runs = []
+    for row in rows:
+        for planner, status, cost_column, time_column, length_column in columns:
+            cost = common.number(path, row, cost_column, allow_empty=True)
+            success = row[status] == "solved" if status else math.isfinite(cost)
+            time_s = common.number(path, row, time_column)
+            if not (time_s >= 0 and math.isfinite(time_s)):
+                raise common.InputError(path, f"line {row['_line']}, column {time_column}", "expected a finite number >= 0")
+            if success and not math.isfinite(cost):
+                raise common.InputError(path, f"line {row['_line']}, column {cost_column}",
+                                        "expected a finite cost for a solved pair")
+            length = common.number(path, row, length_column, allow_empty=True) if length_column and success else math.nan
+            runs.append((planner(row), row["pair"], success, cost if success else math.nan, time_s, length))
+    planners = {run[0] for run in runs}
+    has_length = all(any(run[0] == planner and math.isfinite(run[5]) for run in runs) for planner in planners)
+    return runs, has_length
+
+
 def read_runs(path):
     """[(planner, query, success, cost, time_s, length_m)] in file order, validated."""
+    pairs = read_pairs(path, header_of(path))
+    if pairs is not None:
+        return pairs
     rows = common.read_csv(path, REQUIRED)
     if not rows:
         raise common.InputError(path, "", "holds no run (only a header)")

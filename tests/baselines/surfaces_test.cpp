@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "baselines/pcl_surfaces.h"
-#include "baselines/planning_pairs.h"
 #include "baselines/surface_measures.h"
 #include "baselines/voxel_surface.h"
 #include "common/input_error.h"
@@ -289,33 +288,6 @@ TEST(GeometryTruth, ASurfaceAgainstItselfAndAgainstAShiftedCopy) {
   // Steiner-flagged vertices take their faces out of the accuracy samples.
   raised.is_steiner.assign(raised.vertices.size(), 1);
   EXPECT_EQ(truth.score(raised).measured_faces, 0u);
-}
-
-TEST(PlanningPairs, PairsOnPointsAndPlansOnAFlatMap) {
-  const std::vector<Eigen::Vector3d> road = {{0, 0, 0}, {1, 0, 0}, {8, 0, 0}, {8, 8, 0}, {2, 7, 0}};
-  const auto pairs = pairsOnPoints(road, 6, 3, 5.0);
-  ASSERT_EQ(pairs.size(), 6u);
-  for (const PlanningPair& p : pairs) EXPECT_GE((p.start_W - p.goal_W).norm(), 5.0);
-  const auto again = pairsOnPoints(road, 6, 3, 5.0);
-  for (std::size_t i = 0; i < pairs.size(); ++i) EXPECT_EQ(pairs[i].start_W, again[i].start_W);
-
-  traversability::LayeredMesh map;
-  map.mesh = flatSquare(10, 10);
-  map.layers.resize(map.mesh.faces.size());
-  for (auto& l : map.layers) {
-    l.face_class = traversability::FaceClass::kFree;
-    l.cost = 0;
-    l.rays = 5;
-  }
-  planning::WalkabilityConfig walkability;
-  walkability.min_lethal_distance_m = 0;
-  std::vector<PlanningPair> queries = {{{1, 1, 0}, {9, 1, 0}, 8.0}, {{1, 1, 0}, {30, 30, 0}, 1.0}};
-  const PlanningScore score = planPairs(map, queries, walkability, 0.5);
-  EXPECT_EQ(score.pairs, 2u);
-  EXPECT_EQ(score.solved, 1u);
-  EXPECT_EQ(score.no_start_or_goal, 1u);
-  EXPECT_NEAR(score.mean_length_m, 8.0, 0.05);
-  EXPECT_NEAR(score.mean_length_ratio, 1.0, 0.01);
 }
 
 }  // namespace

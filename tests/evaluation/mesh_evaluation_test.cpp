@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "datasets/mesh_evaluation.h"
@@ -126,7 +127,7 @@ TEST(SurfaceDistances, DistancesToPointsCountUnmatchedSamples) {
   for (int i = -20; i <= 20; ++i) {
     for (int j = -20; j <= 20; ++j) cloud.emplace_back(0.1 * i, 0.1 * j, 0.0);
   }
-  const PointCloudIndex index(cloud, 0.25);
+  const PointCloudIndex index(cloud);
   const std::vector<Eigen::Vector3d> samples = {{0, 0, 0.3}, {0.05, 0.05, 0.0}, {10, 10, 10}};
   const DistanceStats stats = distancesToPoints(samples, index, 1.0);
   EXPECT_EQ(stats.samples, 3u);
@@ -140,7 +141,7 @@ TEST(PointCloudIndex, NearestMatchesBruteForce) {
   std::uniform_real_distribution<double> u(-5.0, 5.0);
   std::vector<Eigen::Vector3d> points(3000);
   for (auto& p : points) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
-  const PointCloudIndex index(points, 0.7);
+  const PointCloudIndex index(points);
   for (int q = 0; q < 300; ++q) {
     const Eigen::Vector3d query(u(rng) * 1.3, u(rng) * 1.3, u(rng) * 1.3);
     double best = std::numeric_limits<double>::infinity();
@@ -153,7 +154,9 @@ TEST(PointCloudIndex, NearestMatchesBruteForce) {
       EXPECT_DOUBLE_EQ(found->distance, best);
     }
   }
-  EXPECT_THROW(PointCloudIndex(points, 0.0), std::invalid_argument);
+  std::vector<Eigen::Vector3d> with_nan = points;
+  with_nan.push_back(Eigen::Vector3d(0.0, std::numeric_limits<double>::quiet_NaN(), 0.0));
+  EXPECT_THROW(PointCloudIndex{with_nan}, std::invalid_argument);
 }
 
 }  // namespace

@@ -350,6 +350,30 @@ class PlannerFiguresTest(ScriptCase):
         self.assert_ok(self.run_script("planner_figures.py", csv_path, "-o", self.path("o")))
         self.assert_png(self.path("o", "planner_comparison.png"), 1200, 500)
 
+    def test_reads_the_pairs_csv_of_plan_and_planner_demo(self):
+        import planner_figures
+        plan_csv = self.write("plan_pairs.csv",
+                              "pair,start_x,start_y,start_z,goal_x,goal_y,goal_z,status,length_m,cost,time_s,graph_cost,graph_time_s\n"
+                              "0,0,0,0,1,1,0,solved,12.5,3.0,0.4,2.5,0.01\n"
+                              "1,0,0,0,2,2,0,timeout,nan,nan,1.0,inf,0.02\n")
+        runs, has_length = planner_figures.read_runs(plan_csv)
+        self.assertEqual([run[:3] for run in runs], [("BIT* (OMPL)", "0", True), ("graph A*", "0", True),
+                                                     ("BIT* (OMPL)", "1", False), ("graph A*", "1", False)])
+        self.assertEqual([run[3] for run in runs[:2]], [3.0, 2.5])
+        self.assertEqual([run[4] for run in runs], [0.4, 0.01, 1.0, 0.02])
+        self.assertFalse(has_length)  # graph A* reports no length
+        self.assert_ok(self.run_script("planner_figures.py", plan_csv, "-o", self.path("plan_plots")))
+        self.assert_png(self.path("plan_plots", "planner_comparison.png"), 1200, 500)
+        demo_csv = self.write("demo_pairs.csv", "pair,map,status,length_m,cost,time_s,truth_valid\n"
+                              "0,mesh,solved,10,4,0.5,1\n0,octomap,solved,11,5,0.1,1\n1,mesh,failed,nan,nan,0.7,0\n")
+        runs, has_length = planner_figures.read_runs(demo_csv)
+        self.assertEqual([(run[0], run[2], run[5] if run[2] else None) for run in runs],
+                         [("mesh", True, 10.0), ("octomap", True, 11.0), ("mesh", False, None)])
+        self.assertTrue(has_length)
+        self.assert_rejected(self.run_script("planner_figures.py", self.write(
+            "bad_pairs.csv", "pair,map,status,length_m,cost,time_s\n0,mesh,solved,1,nan,0.1\n")),
+            "bad_pairs.csv", "line 2", "cost")
+
     def test_bad_input_exits_2(self):
         run = lambda path: self.run_script("planner_figures.py", path)  # noqa: E731
         self.assert_rejected(run(self.path("missing.csv")), "missing.csv", "no such file")

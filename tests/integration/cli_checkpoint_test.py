@@ -115,11 +115,10 @@ class CheckpointCase(unittest.TestCase):
     def assert_same_outputs(self, out, reference):
         self.assertTrue(filecmp.cmp(os.path.join(out, "mesh.ply"), os.path.join(reference, "mesh.ply"), shallow=False),
                         "mesh.ply differs from the uninterrupted run's")
-        # Every layer of every face identical, except `rays` (how many rays observe the face): the resumed run
-        # recomputes the layers from the surface, which counts the current rays; the incremental updates of the
-        # uninterrupted run refresh that count only around touched vertices (docs/reliability.md).
-        resumed = read_binary_ply(os.path.join(out, "traversability.ply"), skip={"rays"})
-        uninterrupted = read_binary_ply(os.path.join(reference, "traversability.ply"), skip={"rays"})
+        # Every layer of every face identical, `rays` included: the resumed run recomputes the layers from the
+        # surface, the uninterrupted one kept them current incrementally; both must count the same rays.
+        resumed = read_binary_ply(os.path.join(out, "traversability.ply"))
+        uninterrupted = read_binary_ply(os.path.join(reference, "traversability.ply"))
         self.assertEqual(resumed, uninterrupted, "traversability.ply differs from the uninterrupted run's")
         code, report = check_mesh(os.path.join(out, "mesh.ply"))
         self.assertEqual(code, 0, report)

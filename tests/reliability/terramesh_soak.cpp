@@ -1,17 +1,20 @@
 // terramesh_soak: long runs of the mesher with invariant checks and memory samples.
 //
 //   terramesh_soak [--mode M] [--keyframes N] [--window W] [--check-every K] [--seed S]
+//                  [--history-bytes B]
 //       A randomised stream (tests/reliability/random_stream.h): moving, culled and outlier
 //       points, corrected and removed keyframes, a sliding window of W keyframes (0: none).
 //       checkInvariants() every K updates and at the end; the final surface must be a closed
 //       manifold. Exit 0 if every check was clean, 1 otherwise, 2 for bad options.
-//   terramesh_soak --stream FILE [--mode M] [--sample-every K] [--metres-per-unit U]
+//   terramesh_soak --stream FILE [--mode M] [--sample-every K] [--metres-per-unit U] [--history-bytes B]
 //       Replays a stream file, printing the map's size and accounting, and the process's
 //       resident memory, every K keyframes (CSV on stdout).
+//   --history-bytes B sets MesherConfig::surface_history_max_bytes (default: the config's).
 #include <sys/resource.h>
 
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -39,6 +42,7 @@ struct Options {
   std::string stream;
   std::size_t sample_every = 50;
   double metres_per_unit = 0;  // 0: the stream's own
+  std::size_t history_bytes = 0;  // 0: MesherConfig's default surface_history_max_bytes
 };
 
 /// Resident and peak resident memory of this process, MiB (VmRSS and VmHWM).
@@ -55,18 +59,23 @@ std::pair<double, double> residentMib() {
 
 double mib(std::size_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
 
+/// CPU time of this process so far (user + system), s: what the run costs on a shared machine,
+/// where wall time depends on the load.
+double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
 void printHeader() {
   std::printf("keyframes_sent,keyframes,points,inserted_points,cells,rays,ray_crossings,"
               "triangulation_mib,ray_mib,point_mib,index_mib,map_mib,rss_mib,peak_rss_mib,"
-              "elapsed_s\n");
+              "elapsed_s,cpu_s,check_cpu_s\n");
 }
 
-void printSample(std::size_t sent, const MapSize& s, double elapsed_s) {
+/// One CSV row; `check_cpu_s` is the CPU time spent in checkInvariants() so far.
+void printSample(std::size_t sent, const MapSize& s, double elapsed_s, double check_cpu_s = 0) {
   const auto [rss, peak] = residentMib();
-  std::printf("%zu,%zu,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.1f,%.1f,%.1f\n", sent, s.keyframes,
+  std::printf("%zu,%zu,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.1f,%.1f,%.1f,%.2f,%.3f\n", sent, s.keyframes,
               s.points, s.inserted_points, s.cells, s.rays, s.ray_crossings, mib(s.triangulation_bytes),
               mib(s.ray_bytes), mib(s.point_bytes), mib(s.index_bytes), mib(s.totalBytes()), rss, peak,
-              elapsed_s);
+              elapsed_s, cpuSeconds(), check_cpu_s);
   std::fflush(stdout);
 }
 
@@ -103,6 +112,8 @@ bool parse(int argc, char** argv, Options& options) {
       options.check_every = number == 0 ? 1 : number;
     } else if (arg == "--sample-every") {
       options.sample_every = number == 0 ? 1 : number;
+    } else if (arg == "--history-bytes") {
+      options.history_bytes = number;
     } else if (arg == "--seed") {
       options.seed = number;
     } else {
@@ -117,6 +128,7 @@ int replayStream(const Options& options) {
   const terramesh::datasets::SlamStream stream = terramesh::datasets::readAnyStream(options.stream);
   MesherConfig config = MesherConfig::forMode(options.mode);
   config.metres_per_unit = options.metres_per_unit > 0 ? options.metres_per_unit : stream.metres_per_unit;
+  if (options.history_bytes > 0) config.surface_history_max_bytes = options.history_bytes;
   if (!config.incremental_steiner_grid) {
     std::cerr << "terramesh_soak: --stream runs the proposed mode only\n";
     return 2;
@@ -167,22 +179,26 @@ int soak(const Options& options) {
   MesherConfig config = MesherConfig::forMode(options.mode);
   config.steiner_step_m = 4.0;
   if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = terramesh::test::RandomStream::bounds();
+  if (options.history_bytes > 0) config.surface_history_max_bytes = options.history_bytes;
   Mesher mesher(config);
   printHeader();
   const auto start = std::chrono::steady_clock::now();
   std::size_t updates = 0, checks = 0, failed_checks = 0;
+  double check_cpu_s = 0;
   UpdateStats totals;
   terramesh::test::StreamEvent event;
   auto check = [&] {
     ++checks;
+    const double check_start = cpuSeconds();
     const auto report = mesher.checkInvariants();
+    check_cpu_s += cpuSeconds() - check_start;
     if (!report.ok()) {
       ++failed_checks;
       std::fprintf(stderr, "update %zu (keyframe %zu): %s\n", updates, stream.counts().keyframes,
                    report.summary().c_str());
     }
     printSample(stream.counts().keyframes, mesher.size(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), check_cpu_s);
   };
   while (stream.next(event)) {
     switch (event.kind) {
@@ -206,13 +222,15 @@ int soak(const Options& options) {
                "mode %s: %zu keyframes, %zu corrections, %zu keyframe removals, %zu points culled, "
                "%zu observations (%zu moved, %zu outliers, %zu duplicates); %zu updates, "
                "%zu invariant checks, %zu failed; walk fallbacks %zu, walk failures %zu, walks cut "
-               "by the step bound %zu; final surface %s (%zu faces); peak rss %.1f MiB; %.1f s\n",
+               "by the step bound %zu; final surface %s (%zu faces); peak rss %.1f MiB; %.1f s wall, "
+               "%.1f s CPU (%.1f s in checks)\n",
                terramesh::mesher::toString(options.mode), c.keyframes, c.corrections, c.keyframe_removals,
                c.point_removals, c.observations, c.moved_observations, c.outliers, c.duplicates, updates,
                checks, failed_checks, totals.walk_fallbacks, totals.walk_failures,
                totals.walk_step_limit_hits, topology.isClosedManifold() ? "closed manifold" : "NOT a closed manifold",
                topology.faces, peak,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), cpuSeconds(),
+               check_cpu_s);
   (void)rss;
   return failed_checks == 0 && topology.isClosedManifold() ? 0 : 1;
 }

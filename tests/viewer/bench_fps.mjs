@@ -1,14 +1,18 @@
 // Frame-rate benchmark of the viewer in headless chromium with SwiftShader (software WebGL):
 // synthetic run folders whose mesh.ply is a wavy height field of N faces, each loaded in the
 // page and turned for a few seconds. Prints faces, load time (page open to map drawn) and frames
-// per second at full resolution and at the half resolution used while the user drags.
+// per second at full resolution and at the half resolution used while the user drags: measured
+// (wall clock, so it depends on what else runs on the machine) and from CPU time (frames per CPU
+// second of chromium's whole process tree: what one otherwise idle core would give, whatever
+// the load; SwiftShader may use more than one core, so an idle machine can do better).
 // Usage (from the build tree's tests/viewer/npm, see docs/viewer.md):
 //   TERRAMESH_VIEWER_TEST_MODULES=$PWD/node_modules node SOURCE/tests/viewer/bench_fps.mjs \
 //       BUILD/apps/terramesh/terramesh [FACES ...]
 import { mkdtempSync, rmSync, writeFileSync, mkdirSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { launchBrowser, openViewer, startServer, stopServer } from './harness.mjs';
+import { chromiumCpuSeconds, launchBrowser, openViewer, startServer, stopServer } from './harness.mjs';
+import { loadavg } from 'node:os';
 
 const [binary, ...sizes] = process.argv.slice(2);
 if (!binary) {
@@ -50,7 +54,8 @@ function gridPly(faces) {
 
 const work = mkdtempSync(join(tmpdir(), 'terramesh-viewer-bench-'));
 const browser = await launchBrowser();
-console.log('faces      ply_MB  load_s  fps  fps_drag  (SwiftShader; canvas 1100x570, while dragging 550x285; all faces shown)');
+console.log(`load average at start: ${loadavg().map((l) => l.toFixed(1)).join(' ')}`);
+console.log('faces      ply_MB  load_s  fps  fps_cpu  fps_drag  fps_drag_cpu  (SwiftShader; canvas 1100x570, while dragging 550x285; all faces shown)');
 try {
   for (const target of faceCounts) {
     const run = join(work, `run_${target}`);
@@ -63,9 +68,15 @@ try {
       const { page, errors } = await openViewer(browser.context, server.url, 600000);
       const load = (performance.now() - start) / 1000;
       await page.evaluate(() => window.terramesh.setOption('showSteiner', true));
-      const fps = await page.evaluate((s) => window.terramesh.measureFps(s, true), seconds);
-      const fpsDrag = await page.evaluate((s) => window.terramesh.measureFps(s, true, true), seconds);
-      console.log(`${String(faces).padEnd(10)} ${(bytes.length / 1e6).toFixed(1).padStart(6)}  ${load.toFixed(1).padStart(6)}  ${fps.toFixed(1).padStart(5)}  ${fpsDrag.toFixed(1).padStart(5)}` +
+      const measure = async (dragging) => {
+        const cpu0 = chromiumCpuSeconds(browser.profile);
+        const r = await page.evaluate(([s, d]) => window.terramesh.measureFps(s, true, d), [seconds, dragging]);
+        return { fps: r.fps, cpuFps: r.frames / Math.max(0.01, chromiumCpuSeconds(browser.profile) - cpu0) };
+      };
+      const full = await measure(false);
+      const drag = await measure(true);
+      const f = (x, w) => x.toFixed(1).padStart(w);
+      console.log(`${String(faces).padEnd(10)} ${f(bytes.length / 1e6, 6)}  ${f(load, 6)}  ${f(full.fps, 5)}  ${f(full.cpuFps, 6)}  ${f(drag.fps, 7)}  ${f(drag.cpuFps, 10)}` +
         (errors.length ? `  errors: ${errors.join('; ')}` : ''));
       await page.close();
     } finally {
@@ -73,6 +84,7 @@ try {
     }
     rmSync(run, { recursive: true, force: true });
   }
+  console.log(`load average at end: ${loadavg().map((l) => l.toFixed(1)).join(' ')}`);
 } finally {
   await browser.close();
   rmSync(work, { recursive: true, force: true });

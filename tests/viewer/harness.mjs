@@ -1,7 +1,7 @@
 // Shared by the viewer tests and the frame-rate benchmark: runs `terramesh view` on a run folder
 // and drives Debian's chromium (no browser download) through playwright-core.
 import { spawn } from 'node:child_process';
-import { mkdtempSync, rmSync } from 'node:fs';
+import { mkdtempSync, readFileSync, readdirSync, rmSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -21,10 +21,14 @@ export function playwright() {
   return createRequire(join(modules, 'package.json'))('playwright-core');
 }
 
-/** Starts `terramesh view DIR --port 0 ...`; resolves {url, port, process} once it prints its URL. */
+/**
+ * Starts `terramesh view DIR --port 0 ...` (with `--bundle $TERRAMESH_VIEWER_BUNDLE` when set);
+ * resolves {url, port, process} once it prints its URL.
+ */
 export function startServer(binary, runDir, extraArgs = []) {
+  const bundle = process.env.TERRAMESH_VIEWER_BUNDLE ? ['--bundle', process.env.TERRAMESH_VIEWER_BUNDLE] : [];
   return new Promise((resolve, reject) => {
-    const child = spawn(binary, ['view', runDir, '--port', '0', ...extraArgs], { stdio: ['ignore', 'pipe', 'pipe'] });
+    const child = spawn(binary, ['view', runDir, '--port', '0', ...bundle, ...extraArgs], { stdio: ['ignore', 'pipe', 'pipe'] });
     let output = '';
     const timer = setTimeout(() => reject(new Error(`terramesh view printed no URL in 60 s:\n${output}`)), 60000);
     const onData = (chunk) => {
@@ -48,7 +52,7 @@ export function stopServer(server) {
   }
 }
 
-/** A fresh headless chromium profile; returns {context, close}. */
+/** A fresh headless chromium profile; returns {context, profile, close}. */
 export async function launchBrowser() {
   const profile = mkdtempSync(join(tmpdir(), 'terramesh-chromium-'));
   const { chromium } = playwright();
@@ -58,6 +62,7 @@ export async function launchBrowser() {
   });
   return {
     context,
+    profile,
     close: async () => { await context.close(); rmSync(profile, { recursive: true, force: true }); },
   };
 }
@@ -79,4 +84,32 @@ export async function openViewer(context, url, timeoutMs = 120000) {
 /** Waits for two animation frames (the on-demand render and its compositing). */
 export async function settle(page) {
   await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+}
+
+/**
+ * CPU seconds (user + system) used so far by the chromium started with `profile` and all its
+ * descendants (renderer, GPU process with SwiftShader, utilities), from /proc; for the frame-rate
+ * benchmark on a shared machine, where wall time depends on the other users.
+ */
+export function chromiumCpuSeconds(profile) {
+  const ticksPerSecond = 100;  // USER_HZ on Linux
+  const procs = new Map();
+  for (const pid of readdirSync('/proc').filter((name) => /^\d+$/.test(name))) {
+    try {
+      const stat = readFileSync(`/proc/${pid}/stat`, 'latin1');
+      const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+      // fields[1] = ppid, fields[11] = utime, fields[12] = stime (stat fields 4, 14, 15)
+      procs.set(pid, { ppid: fields[1], ticks: Number(fields[11]) + Number(fields[12]),
+        root: readFileSync(`/proc/${pid}/cmdline`, 'latin1').includes(`--user-data-dir=${profile}`) });
+    } catch {
+      // the process ended between the listing and the read
+    }
+  }
+  const inTree = (pid, depth = 0) => {
+    const p = procs.get(pid);
+    return Boolean(p) && depth < 64 && (p.root || inTree(p.ppid, depth + 1));
+  };
+  let ticks = 0;
+  for (const [pid, p] of procs) if (inTree(pid)) ticks += p.ticks;
+  return ticks / ticksPerSecond;
 }

@@ -20,6 +20,12 @@ if ! command -v npm >/dev/null 2>&1; then
   echo "viewer tests: npm missing (apt-get install npm)" >&2
   exit 77
 fi
+node_major=$(node -p 'process.versions.node.split(".")[0]')
+if [ "$node_major" -lt 20 ]; then
+  echo "viewer tests: playwright-core needs Node.js >= 20, found $(node --version) (Debian 12 ships 18:" \
+       "use Debian 13 or nodesource's nodejs 20)" >&2
+  exit 1
+fi
 mkdir -p "$npm_dir"
 if ! cmp -s "$source_dir/package-lock.json" "$npm_dir/package-lock.json" || [ ! -d "$npm_dir/node_modules/playwright-core" ]; then
   cp "$source_dir/package.json" "$source_dir/package-lock.json" "$npm_dir/"

@@ -409,7 +409,22 @@ TraversabilityMap::~TraversabilityMap() = default;
 TraversabilityMap::TraversabilityMap(TraversabilityMap&&) noexcept = default;
 TraversabilityMap& TraversabilityMap::operator=(TraversabilityMap&&) noexcept = default;
 
-LayerUpdateStats TraversabilityMap::apply(const mesher::SurfaceDelta& delta) { return impl_->apply(delta, {}); }
+LayerUpdateStats TraversabilityMap::update(const mesher::Mesher& mesher, std::uint64_t from_revision) {
+  const auto start = std::chrono::steady_clock::now();
+  const mesher::SurfaceDelta delta = mesher.changesSince(from_revision);
+  LayerUpdateStats stats;
+  if (!delta.complete) {
+    stats = impl_->reset(mesher.surfaceFaces());
+  } else if (!delta.empty()) {
+    stats = impl_->apply(delta, mesher.facesAround(delta.touched_vertices));
+  } else {
+    stats.faces_total = impl_->faceCount();
+  }
+  // The mesher's queries are part of the cost of keeping up.
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
 LayerUpdateStats TraversabilityMap::apply(const mesher::SurfaceDelta& delta,
                                           const std::vector<mesher::SurfaceFace>& faces_around_touched) {
   return impl_->apply(delta, faces_around_touched);

@@ -7,7 +7,13 @@ const VIRIDIS = [
 /** Green (cheap) to yellow to orange (expensive) for cost, so red stays for lethal. */
 const COST = [[26, 152, 80], [145, 207, 96], [217, 239, 139], [254, 224, 139], [252, 141, 89], [215, 100, 40]];
 
+/**
+ * Unknown faces are achromatic (no ramp has a grey) and hatched: the scene's shader draws
+ * diagonal stripes of UNKNOWN_HATCH_RGB over them, 3 px of every HATCH_PERIOD_PX, in screen space.
+ */
 export const UNKNOWN_RGB = [128, 128, 128];
+export const UNKNOWN_HATCH_RGB = [225, 225, 225];
+export const HATCH_PERIOD_PX = 6;
 export const LETHAL_RGB = [220, 20, 30];
 export const STEINER_TINT = 0.55;
 
@@ -20,6 +26,13 @@ export function rampColour(ramp, t) {
   const f = u - i;
   const a = ramp[i], b = ramp[i + 1];
   return [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])];
+}
+
+/** The CSS of the unknown swatch: the same stripes as the map (scene.js). */
+export function hatchCss() {
+  const base = `rgb(${UNKNOWN_RGB.join(',')})`, stripe = `rgb(${UNKNOWN_HATCH_RGB.join(',')})`;
+  const half = HATCH_PERIOD_PX / 2;
+  return `repeating-linear-gradient(-45deg, ${stripe} 0 ${half}px, ${base} ${half}px ${HATCH_PERIOD_PX}px)`;
 }
 
 /** CSS linear-gradient of a ramp, for the legend. */

@@ -1,4 +1,4 @@
-// Per-face colours of a layer: value ramp, then classes (unknown grey, lethal red) on top.
+// Per-face colours of a layer: value ramp, then classes (unknown grey and hatched, lethal red) on top.
 import { LETHAL_RGB, RAMPS, STEINER_TINT, UNKNOWN_RGB, rampColour } from './colormaps.js';
 
 /** Known layers of traversability.ply (docs/traversability.md); others get an automatic range. */
@@ -61,26 +61,32 @@ function normalised(v) {
 }
 
 /**
- * Fills `colours` (Uint8Array, 3 corners x RGB per face) for layer `name` and returns the legend
- * description. Unknown faces (flag, or NaN value) are grey and lethal faces red, on every
- * traversability layer; Steiner faces are darkened. Flat shading is baked in.
+ * Fills `colours` (Uint8Array, 3 corners x RGB per face) and `hatch` (Uint8Array, one per corner:
+ * 255 on unknown faces, which the scene's shader stripes) for layer `name` and returns the legend
+ * description. On every layer, height included, when the mesh has the class flags
+ * (traversability.ply): unknown faces (flag, or NaN value of a traversability layer) are grey and
+ * hatched, lethal faces red. Steiner faces are darkened. Flat shading is baked in.
  */
-export function colourFaces(mesh, name, up, colours) {
+export function colourFaces(mesh, name, up, colours, hatch) {
   const known = KNOWN[name] || {};
-  const values = name === 'height' || !mesh.layers[name] ? faceHeights(mesh, up) : mesh.layers[name];
+  const isHeight = name === 'height' || !mesh.layers[name];
+  const values = isHeight ? faceHeights(mesh, up) : mesh.layers[name];
   const ramp = RAMPS[known.ramp || 'viridis'];
-  const [min, max] = known.range || autoRange(values);
-  const classes = name !== 'height' && (mesh.flags.unknown || mesh.flags.lethal);
-  const unknown = classes ? mesh.flags.unknown : null;
-  const lethal = classes ? mesh.flags.lethal : null;
+  const unknown = mesh.flags.unknown || null;
+  const lethal = mesh.flags.lethal || null;
+  const classes = Boolean(unknown || lethal);
+  const knownValues = unknown ? values.filter((_, f) => !unknown[f]) : values;
+  const [min, max] = known.range || autoRange(knownValues);
   const span = max - min;
   const light = lightDirection(up);
   const n = mesh.normals;
+  let unknownFaces = 0, lethalFaces = 0;
   for (let f = 0; f < mesh.faces; ++f) {
     const v = values[f];
     let rgb;
-    if (lethal && lethal[f]) rgb = LETHAL_RGB;
-    else if ((unknown && unknown[f]) || (classes && Number.isNaN(v))) rgb = UNKNOWN_RGB;
+    const isUnknown = Boolean((unknown && unknown[f]) || (classes && !isHeight && Number.isNaN(v)));
+    if (isUnknown) { rgb = UNKNOWN_RGB; ++unknownFaces; }
+    else if (lethal && lethal[f]) { rgb = LETHAL_RGB; ++lethalFaces; }
     else rgb = rampColour(ramp, v === Infinity ? 1 : (v - min) / span);
     // Flat Lambert shading of a two-sided surface, baked in (the material is unlit).
     const lambert = Math.abs(n[3 * f] * light[0] + n[3 * f + 1] * light[1] + n[3 * f + 2] * light[2]);
@@ -89,7 +95,8 @@ export function colourFaces(mesh, name, up, colours) {
       colours[9 * f + 3 * c] = rgb[0] * tint;
       colours[9 * f + 3 * c + 1] = rgb[1] * tint;
       colours[9 * f + 3 * c + 2] = rgb[2] * tint;
+      if (hatch) hatch[3 * f + c] = isUnknown ? 255 : 0;
     }
   }
-  return { title: layerLabel(name), ramp, min, max, classes: Boolean(classes) };
+  return { title: layerLabel(name), ramp, min, max, classes, unknownFaces, lethalFaces };
 }

@@ -1,5 +1,5 @@
 // The legend: the layer's colour ramp with its range and units, and the class swatches.
-import { LETHAL_RGB, UNKNOWN_RGB, rampGradient } from './colormaps.js';
+import { LETHAL_RGB, hatchCss, rampGradient } from './colormaps.js';
 
 function format(value) {
   if (!Number.isFinite(value)) return String(value);
@@ -8,13 +8,18 @@ function format(value) {
   return value.toFixed(magnitude >= 100 ? 0 : 2);
 }
 
-/** Renders {title, ramp, min, max, classes: bool, note} into `element`. */
-export function renderLegend(element, { title, ramp, min, max, classes, note }) {
-  const swatch = (rgb) => `<span class="swatch" style="background: rgb(${rgb.join(',')})"></span>`;
+/**
+ * Renders {title, ramp, min, max, classes: bool, unknownFaces, lethalFaces, note} into `element`;
+ * the class swatches are drawn as the map draws those faces (unknown: grey with stripes).
+ */
+export function renderLegend(element, { title, ramp, min, max, classes, unknownFaces, lethalFaces, note }) {
+  const swatch = (css, cls) => `<span class="swatch ${cls}" style="background: ${css}"></span>`;
+  const count = (n) => (Number.isFinite(n) ? ` (${n})` : '');
   element.innerHTML = `
     <div class="title">${title}</div>
     <div class="bar" style="background: ${rampGradient(ramp)}"></div>
     <div class="ticks"><span>${format(min)}</span><span>${format((min + max) / 2)}</span><span>${format(max)}</span></div>
-    ${classes ? `<div>${swatch(UNKNOWN_RGB)}unknown ${swatch(LETHAL_RGB)}lethal</div>` : ''}
+    ${classes ? `<div class="classes">${swatch(hatchCss(), 'unknown')}unknown, hatched grey${count(unknownFaces)}` +
+      `${swatch(`rgb(${LETHAL_RGB.join(',')})`, 'lethal')}lethal${count(lethalFaces)}</div>` : ''}
     ${note ? `<div class="note">${note}</div>` : ''}`;
 }

@@ -110,15 +110,17 @@ async function main() {
     scene.requestRender();
   }
 
-  let colours = null;
+  let buffers = null;
   function recolour() {
     const mesh = scene.mesh.userData;
     const name = mesh.layers[state.layer] || state.layer === 'height' ? state.layer : 'height';
-    const legend = colourFaces(mesh, name, up, colours);
+    const legend = colourFaces(mesh, name, up, buffers.colours, buffers.hatch);
     if (name !== state.layer) legend.note = `${layerLabel(state.layer)} is in traversability.ply only; this snapshot is coloured by height`;
     else if (mesh.faces > mesh.measured) legend.note = `${mesh.measured} measured faces, ${mesh.faces - mesh.measured} Steiner faces (darker)`;
     renderLegend($('legend'), legend);
     info.shownLayer = name;
+    info.unknownFaces = legend.unknownFaces;
+    info.lethalFaces = legend.lethalFaces;
     scene.coloursChanged();
   }
 
@@ -131,7 +133,7 @@ async function main() {
     status(`loading ${target.url}…`);
     const mesh = await cache.get(target.url);
     if (ticket !== request) return;
-    colours = scene.setMesh(mesh);
+    buffers = scene.setMesh(mesh);
     recolour();
     info.loadedUrl = target.url;
     info.faces = mesh.faces;
@@ -140,6 +142,7 @@ async function main() {
     if (overlays.trajectory) overlays.trajectory.setKeyframe(target.keyframe);
     if (overlays.points) overlays.points.setKeyframe(target.keyframe);
     if (chart) chart.setMarker(target.keyframe);
+    info.chartMarker = chart ? chart.marker : null;
     applyVisibility();
     const name = target.url.split('/').pop();
     $('keyframe-label').textContent = `keyframe ${target.keyframe} / ${totalKeyframes}  (${name}, ${mesh.faces} faces)`;
@@ -148,10 +151,26 @@ async function main() {
 
   const slider = $('keyframe-slider');
   slider.max = String(frames.length - 1);
-  slider.addEventListener('input', () => setFrame(Number(slider.value)));
+  slider.disabled = frames.length < 2;  // no snapshots (mesh without --snapshot-every): the final map only
+  slider.addEventListener('input', () => { replaying = false; setFrame(Number(slider.value)); });
+
+  // Replays the reconstruction: every snapshot in turn, then the final map; again to stop.
+  let replaying = false;
+  const actions = {
+    replay: async () => {
+      if (replaying) { replaying = false; return; }
+      replaying = true;
+      for (let i = 0; i < frames.length && replaying; ++i) {
+        await setFrame(i);
+        await new Promise((resolve) => setTimeout(resolve, 400));
+      }
+      replaying = false;
+    },
+  };
 
   const gui = new GUI({ title: 'terramesh view' });
   gui.add(state, 'layer', Object.fromEntries(layers.map((l) => [layerLabel(l), l]))).name('colour by').onChange(recolour);
+  if (frames.length > 1) gui.add(actions, 'replay').name('replay keyframes (start / stop)');
   gui.add(state, 'showSteiner').name('Steiner faces').onChange(applyVisibility);
   if (overlays.trajectory) gui.add(state, 'trajectory').name('camera trajectory').onChange(applyVisibility);
   if (overlays.points) gui.add(state, 'points').name('SLAM points').onChange(applyVisibility);

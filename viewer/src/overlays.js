@@ -95,7 +95,8 @@ export function pathObject(csv, origin, up, radius, index) {
  */
 export function voxelObject(voxels, origin, up, metresPerUnit) {
   const box = new THREE.BoxGeometry(1, 1, 1);
-  const material = new THREE.MeshLambertMaterial({ color: 0xff9933, transparent: true, opacity: 0.45, depthWrite: false });
+  // Unlit and mostly opaque: voxels of 0.1-0.2 m are a few pixels wide on a street-sized map.
+  const material = new THREE.MeshBasicMaterial({ color: 0xff9933, transparent: true, opacity: 0.8, depthWrite: false });
   const mesh = new THREE.InstancedMesh(box, material, Math.max(1, voxels.count));
   const m = new THREE.Matrix4();
   const d = voxels.data;

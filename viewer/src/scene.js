@@ -2,11 +2,38 @@
 // frame only when something changed, which keeps an idle page at zero CPU).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { HATCH_PERIOD_PX, UNKNOWN_HATCH_RGB } from './colormaps.js';
+
+// Colours are sRGB bytes end to end (the legend's CSS, the vertex colours, the overlays'
+// materials): no linear-space conversion, so the screen shows exactly the legend's colours.
+THREE.ColorManagement.enabled = false;
+
+/**
+ * The map's material: unlit vertex colours (shading is baked in, layers.js), plus diagonal
+ * screen-space stripes on faces whose `hatch` attribute is set (unknown faces).
+ */
+function mapMaterial() {
+  const material = new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide });
+  const stripe = UNKNOWN_HATCH_RGB.map((c) => (c / 255).toFixed(4)).join(', ');
+  const half = (HATCH_PERIOD_PX / 2).toFixed(1);
+  material.onBeforeCompile = (shader) => {
+    shader.vertexShader = shader.vertexShader
+      .replace('void main() {', 'attribute float hatch;\nvarying float vHatch;\nvoid main() {\n  vHatch = hatch;');
+    shader.fragmentShader = shader.fragmentShader
+      .replace('void main() {', 'varying float vHatch;\nvoid main() {')
+      .replace('#include <opaque_fragment>', `if (vHatch > 0.5 && mod(floor((gl_FragCoord.x + gl_FragCoord.y) / ${half}), 2.0) < 1.0) {
+    outgoingLight = vec3(${stripe});
+  }
+  #include <opaque_fragment>`);
+  };
+  return material;
+}
 
 export class MapScene {
   constructor(canvas) {
     this.canvas = canvas;
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
+    this.renderer.outputColorSpace = THREE.LinearSRGBColorSpace;
     this.renderer.setClearColor(0x1e2228);
     this.scene = new THREE.Scene();
     this.camera = new THREE.PerspectiveCamera(50, 1, 0.01, 1000);
@@ -24,7 +51,7 @@ export class MapScene {
     this.scene.add(this.overlays);
     // Shading is baked into the colours (layers.js): the cheapest fragment shader, which is what
     // keeps large maps interactive in software rendering.
-    this.material = new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide });
+    this.material = mapMaterial();
     this.mesh = null;
     this.frames = 0;
     this.pending = false;
@@ -74,7 +101,7 @@ export class MapScene {
     this.requestRender();
   }
 
-  /** Replaces the map mesh by a worker-built one; returns its colour buffer to fill. */
+  /** Replaces the map mesh by a worker-built one; returns its colour and hatch buffers to fill. */
   setMesh(data) {
     if (this.mesh) {
       this.scene.remove(this.mesh);
@@ -84,17 +111,20 @@ export class MapScene {
     geometry.setAttribute('position', new THREE.BufferAttribute(data.positions, 3));
     const colours = new Uint8Array(data.positions.length);
     geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3, true));
+    const hatch = new Uint8Array(data.positions.length / 3);
+    geometry.setAttribute('hatch', new THREE.BufferAttribute(hatch, 1, true));
     geometry.computeBoundingSphere();
     this.mesh = new THREE.Mesh(geometry, this.material);
     this.mesh.userData = data;
     this.scene.add(this.mesh);
     this.requestRender();
-    return colours;
+    return { colours, hatch };
   }
 
   coloursChanged() {
     if (!this.mesh) return;
     this.mesh.geometry.attributes.color.needsUpdate = true;
+    this.mesh.geometry.attributes.hatch.needsUpdate = true;
     this.requestRender();
   }
 
@@ -107,7 +137,7 @@ export class MapScene {
   }
 
   /**
-   * Renders continuously for `seconds`, turning the camera, and returns frames per second.
+   * Renders continuously for `seconds`, turning the camera; resolves {fps, frames, seconds}.
    * `finish` waits for each frame on the CPU (SwiftShader otherwise queues work and the count lies);
    * `dragging` renders at the reduced resolution used while the user drags.
    */
@@ -120,7 +150,7 @@ export class MapScene {
         const elapsed = performance.now() - start;
         if (elapsed >= 1000 * seconds) {
           if (dragging) this.setPixelRatio(this.pixelRatio);
-          resolve((1000 * frames) / elapsed);
+          resolve({ fps: (1000 * frames) / elapsed, frames, seconds: elapsed / 1000 });
           return;
         }
         this.controls.object.position.applyAxisAngle(this.camera.up, 0.01);

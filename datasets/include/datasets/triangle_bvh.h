@@ -31,21 +31,32 @@ struct SurfacePoint {
   std::uint32_t face = 0;
 };
 
-/// A bounding-volume hierarchy over the faces of a triangle mesh, for ray casting, visibility and
-/// nearest-surface queries. All positions are in the frame of the mesh and in its units.
+/// The point of triangle (a, b, c) nearest to `p`, in double precision (Ericson, Real-Time
+/// Collision Detection, 5.1.5). A degenerate (zero-area) triangle is treated as its three edges.
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                       const Eigen::Vector3d& c);
+
+/// Ray casting, visibility and nearest-surface queries on the faces of a triangle mesh, on
+/// Embree 3's bounding-volume hierarchy. All positions are in the frame of the mesh and in its
+/// units; answers are in double precision.
 ///
-/// Faces are hit from both sides (no back-face culling). Ray-triangle tests are watertight
-/// (Woop, Benthin and Wald, JCGT 2013): a ray through an edge or vertex shared by several faces
-/// hits at least one of them, so rays never leak through the seams of a closed mesh. Zero-area
-/// faces are never hit by rays but can be the closest face.
+/// Embree searches in single precision (robust mode, so a closed mesh stays closed); every face it
+/// reports is then measured again in double: watertight ray-triangle tests (Woop, Benthin and
+/// Wald, JCGT 2013) and exact point-triangle distances, with Embree's search widened by its float
+/// rounding so that faces tied or nearly tied in double precision are all compared. The answers
+/// are therefore those of an exact double-precision search except for rays that graze an edge or
+/// a silhouette within float rounding (about 1e-7 of the scene's size), which may hit or miss.
+/// Faces are hit from both sides (no back-face culling). Zero-area faces are never hit by rays
+/// but can be the closest face.
 ///
-/// Building is O(F log F) (binned surface-area heuristic); a query visits O(log F) nodes on
-/// typical scenes. The tree keeps its own copy of the geometry: the mesh may be destroyed after
-/// construction. All const member functions are thread-safe (they use no shared mutable state).
+/// Building is O(F log F); a query visits O(log F) nodes on typical scenes. The tree keeps its
+/// own copy of the geometry: the mesh may be destroyed after construction. All const member
+/// functions are thread-safe (Embree queries are; the per-query state lives on the stack).
 class TriangleBvh {
  public:
   /// Builds the tree over every face of `mesh`. An empty mesh gives an empty tree.
-  /// @throw std::invalid_argument if a face indexes a missing vertex or a vertex is not finite.
+  /// @throw std::invalid_argument if a face indexes a missing vertex or a vertex is not finite;
+  /// std::runtime_error if Embree fails (no supported CPU, out of memory).
   explicit TriangleBvh(const mesher::TriangleMesh& mesh);
   ~TriangleBvh();
   TriangleBvh(TriangleBvh&&) noexcept;

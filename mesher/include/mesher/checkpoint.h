@@ -10,7 +10,7 @@
 namespace terramesh::mesher {
 
 /// Version of the checkpoint format written by saveCheckpoint; loadCheckpoint reads only this one.
-inline constexpr std::uint32_t kCheckpointFormatVersion = 1;
+inline constexpr std::uint32_t kCheckpointFormatVersion = 2;
 
 /// Writes the whole state of `mesher` to `out` (binary, little-endian; see docs/formats.md):
 /// a header with the magic "TMCKPT01", the format version, the payload's size and its FNV-1a

@@ -106,7 +106,8 @@ class Mesher {
   /// Faces added and removed, and vertices touched, since `revision` (see SurfaceDelta). Exact:
   /// every surface change goes through adding or removing a cell of O. Cost proportional to the
   /// changes since `revision`, not to the map. History older than the last
-  /// `kSurfaceHistoryRevisions` revisions is forgotten: asking for it gives `complete == false`.
+  /// `kSurfaceHistoryRevisions` revisions, or beyond MesherConfig::surface_history_max_bytes, is
+  /// forgotten: asking for it gives `complete == false`.
   /// @throw std::invalid_argument if `revision` is greater than revision().
   SurfaceDelta changesSince(std::uint64_t revision) const;
 

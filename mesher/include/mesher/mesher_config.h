@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -64,6 +65,15 @@ struct MesherConfig {
   int camera_enclosing_radius_cells = 0;
   /// The grid is kept at least this many cells beyond every point and camera.
   int steiner_margin_cells = 3;
+  /// Experiment option (leave at zero): shifts the Steiner lattice by this much, per world axis,
+  /// from where the mesher places it (from the first update's data, or the fixed grid's box). For
+  /// measuring how the lattice's placement changes the surface (docs/accuracy.md).
+  Eigen::Vector3d steiner_origin_offset_m = Eigen::Vector3d::Zero();
+  /// Lattice nodes closer than this many grid steps to an inserted point are left out of the
+  /// triangulation (restored when no point is that close any more), so that the cells around the
+  /// data are the points' own and do not depend on where the lattice lies. In [0, 0.5); 0 keeps
+  /// every node (the baselines, as their authors ran them). See docs/algorithms.md.
+  double steiner_clearance_steps = 0.0;
 
   /// Inverse-cone weights: added to each crossed cell, to its face neighbours and to their
   /// neighbours, per crossing. Stored internally in fixed point with 1/16 resolution.
@@ -94,6 +104,11 @@ struct MesherConfig {
   /// The edge pass only tries refused cells at least this heavy (weight units): cells that many
   /// rays cross, which matter most and are few (200: about 20 crossings at the default weights).
   double edge_pass_min_weight = 200.0;
+  /// Bytes of surface history kept for Mesher::changesSince, besides the revision bound
+  /// (Mesher::kSurfaceHistoryRevisions): the oldest revisions are forgotten first, but the newest
+  /// one is always kept. A caller asking for a forgotten revision gets `complete == false` and
+  /// resyncs from Mesher::surfaceFaces(). At least 64 KiB.
+  std::size_t surface_history_max_bytes = std::size_t{32} << 20;
   /// Region covered by the fixed Steiner grid when incremental_steiner_grid is false.
   std::optional<AxisAlignedBox> fixed_grid_bounds_W;
 

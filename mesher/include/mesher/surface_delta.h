@@ -75,7 +75,9 @@ struct SurfaceDelta {
   std::uint64_t from_revision = 0;
   std::uint64_t to_revision = 0;
   /// False when the history back to `from_revision` has been forgotten (it is older than
-  /// Mesher::kSurfaceHistoryRevisions); the caller must then rebuild from Mesher::surfaceFaces().
+  /// Mesher::kSurfaceHistoryRevisions, or than the history that fits in
+  /// MesherConfig::surface_history_max_bytes); the caller must then rebuild from
+  /// Mesher::surfaceFaces().
   /// `removed`, `added` and `touched_vertices` are empty in that case.
   bool complete = true;
   /// Faces that existed at `from_revision` and were removed since (some may exist again).

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "mesher/mesher.h"
 #include "mesher/surface_delta.h"
 #include "mesher/triangle_mesh.h"
 #include "traversability/layered_mesh.h"
@@ -54,16 +55,23 @@ class TraversabilityMap {
   TraversabilityMap(TraversabilityMap&&) noexcept;
   TraversabilityMap& operator=(TraversabilityMap&&) noexcept;
 
-  /// Applies one delta from mesher::Mesher::changesSince and updates the layers that it affects.
-  /// An incomplete delta must be followed by reset().
-  /// @throw std::invalid_argument if `delta.complete` is false.
-  LayerUpdateStats apply(const mesher::SurfaceDelta& delta);
+  /// Brings the layers from the surface `mesher` had at `from_revision` (the revision this map was
+  /// last brought to) to its current surface: apply(changesSince(from_revision),
+  /// facesAround(touched_vertices)), or reset(surfaceFaces()) when that history is forgotten.
+  /// Afterwards every layer, `rays` included, equals reset(mesher.surfaceFaces()) exactly; the next
+  /// call continues from mesher.revision(). Cost proportional to the change (except a reset).
+  /// @throw std::invalid_argument if `from_revision` is newer than mesher.revision().
+  LayerUpdateStats update(const mesher::Mesher& mesher, std::uint64_t from_revision);
 
-  /// The same, plus fresh observation counts for the faces around `delta.touched_vertices`
-  /// (mesher::Mesher::facesAround(delta.touched_vertices)): faces whose count changed without
-  /// being re-added are re-judged (known / unknown) with the inflation around them. Faces of
-  /// `faces_around_touched` that are not in the map are ignored. With it, the map after any
-  /// sequence of updates equals reset(mesher.surfaceFaces()) exactly.
+  /// Applies one delta from mesher::Mesher::changesSince and updates the layers that it affects.
+  /// `faces_around_touched` carries the fresh observation counts of the faces around
+  /// `delta.touched_vertices` (mesher::Mesher::facesAround): a ray gained or lost by a vertex, or
+  /// crossing the free cell in front of a face, changes the count of faces that are not re-added,
+  /// and only this list tells. Faces whose count changed are re-judged (known / unknown) with the
+  /// inflation around them; faces of the list that are not in the map are ignored. Pass an empty
+  /// list only for a delta whose `added` faces carry every count that changed (hand-made deltas);
+  /// update() does both steps for a Mesher. With the list, the map after any sequence of updates
+  /// equals reset(mesher.surfaceFaces()) exactly. An incomplete delta must be followed by reset().
   /// @throw std::invalid_argument if `delta.complete` is false.
   LayerUpdateStats apply(const mesher::SurfaceDelta& delta,
                          const std::vector<mesher::SurfaceFace>& faces_around_touched);
