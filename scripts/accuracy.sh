@@ -24,6 +24,16 @@ row() {
         v["completeness_median_m"], v["completeness_within_0.50m"]
     }' "$2"
 }
+# Meshes a synthetic scene's stream into $out/NAME, evaluates it against the scene's ground truth
+# and prints its row: scene, name, row label, then the mesh options.
+mesh_scene_row() {
+  local scene=$1 name=$2 label=$3
+  shift 3
+  "$terramesh" mesh "$out/$scene/stream.tmstream" -o "$out/$name" "$@" --quiet
+  "$terramesh" eval "$out/$name/mesh.ply" --gt-mesh "$out/$scene/ground_truth.ply" \
+    --views "$out/$scene/trajectory.txt" --report "$out/$name.txt" --quiet
+  row "$label" "$out/$name.txt"
+}
 header() {
   echo "| mesh | depth MAE (m) | depth median (m) | depth signed mean (m) | depth coverage <= 0.5 m | accuracy median (m) | accuracy <= 0.5 m | completeness median (m) | completeness <= 0.5 m |"
   echo "|---|---|---|---|---|---|---|---|---|"
@@ -58,10 +68,7 @@ for scene in street offroad garage; do
   for variant in "${variants[@]}"; do
     name=${variant%%|*}
     read -r -a options <<< "${variant#*|}"
-    "$terramesh" mesh "$out/$scene/stream.tmstream" -o "$out/${scene}_$name" "${options[@]}" --quiet
-    "$terramesh" eval "$out/${scene}_$name/mesh.ply" --gt-mesh "$out/$scene/ground_truth.ply" \
-      --views "$out/$scene/trajectory.txt" --report "$out/${scene}_$name.txt" --quiet
-    row "terramesh $name" "$out/${scene}_$name.txt"
+    mesh_scene_row "$scene" "${scene}_$name" "terramesh $name" "${options[@]}"
   done
 done
 
@@ -72,10 +79,7 @@ echo "## Ablation on the synthetic street: proposed with techniques switched off
 header
 for disable in "" edge-pass incremental-steiner-grid local-enclosing-set incremental-steiner-grid,local-enclosing-set,edge-pass; do
   name=${disable:-none}
-  "$terramesh" mesh "$out/street/stream.tmstream" -o "$out/street_without_$name" --quiet ${disable:+--disable "$disable"}
-  "$terramesh" eval "$out/street_without_$name/mesh.ply" --gt-mesh "$out/street/ground_truth.ply" \
-    --views "$out/street/trajectory.txt" --report "$out/street_without_$name.txt" --quiet
-  row "proposed, switched off: $name" "$out/street_without_$name.txt"
+  mesh_scene_row street "street_without_$name" "proposed, switched off: $name" ${disable:+--disable "$disable"}
 done
 
 # Issue 14: how much the result depends on where the Steiner lattice lies. The street again, the
@@ -90,11 +94,8 @@ if [[ -z ${TERRAMESH_ACCURACY_SKIP_ORIGIN_STUDY:-} ]]; then
   for clearance in 0 0.3; do
     for offset in 0,0,0 0,0,2.5 6.6,6.6,0 0,0,5; do
       name=origin_${offset//,/_}_clearance_$clearance
-      options=(--steiner-origin-offset-m "$offset" --steiner-clearance-steps "$clearance")
-      "$terramesh" mesh "$out/street/stream.tmstream" -o "$out/street_$name" "${options[@]}" --quiet
-      "$terramesh" eval "$out/street_$name/mesh.ply" --gt-mesh "$out/street/ground_truth.ply" \
-        --views "$out/street/trajectory.txt" --report "$out/street_$name.txt" --quiet
-      row "proposed, offset $offset m, clearance $clearance" "$out/street_$name.txt"
+      mesh_scene_row street "street_$name" "proposed, offset $offset m, clearance $clearance" \
+        --steiner-origin-offset-m "$offset" --steiner-clearance-steps "$clearance"
     done
   done
 fi
