@@ -45,7 +45,10 @@ class ColumnIndex {
   /// Visits the faces that may reach the column; `visit(face)` returns false to stop.
   template <typename Visit>
   void forEachCandidate(const Column& column, Visit visit);
-  std::int64_t key(long i, long j) const { return (static_cast<std::int64_t>(i) << 32) ^ (j & 0xffffffffL); }
+  /// The low 32 bits of i and j side by side (shifted as unsigned: i may be negative).
+  std::int64_t key(long i, long j) const {
+    return static_cast<std::int64_t>((std::uint64_t{static_cast<std::uint32_t>(i)} << 32) | static_cast<std::uint32_t>(j));
+  }
   /// The shadow of the part of `face` in the slab, if it comes within the radius.
   bool faceInColumn(std::uint32_t face, const Column& column, std::vector<Eigen::Vector2d>& shadow) const;
 
