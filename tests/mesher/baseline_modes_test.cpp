@@ -12,19 +12,6 @@
 namespace terramesh::mesher {
 namespace {
 
-AxisAlignedBox boundsOf(const std::vector<Keyframe>& keyframes) {
-  AxisAlignedBox box{Eigen::Vector3d::Constant(1e300), Eigen::Vector3d::Constant(-1e300)};
-  for (const Keyframe& keyframe : keyframes) {
-    box.min_W = box.min_W.cwiseMin(keyframe.position_W_C);
-    box.max_W = box.max_W.cwiseMax(keyframe.position_W_C);
-    for (const auto& o : keyframe.observations) {
-      box.min_W = box.min_W.cwiseMin(o.position_W);
-      box.max_W = box.max_W.cwiseMax(o.position_W);
-    }
-  }
-  return box;
-}
-
 std::vector<Keyframe> movingRoom() {
   test::SceneOptions options;
   return test::withMovingEstimates(test::boxRoomScene(options).keyframes, 0.08, 11);
@@ -40,7 +27,7 @@ struct ModeRun {
 
 ModeRun runStream(MesherConfig config, const std::vector<Keyframe>& keyframes) {
   config.steiner_step_m = 4.0;
-  if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = boundsOf(keyframes);
+  if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = test::keyframeBounds(keyframes);
   Mesher mesher(config);
   ModeRun result;
   for (const Keyframe& keyframe : keyframes) {
@@ -148,7 +135,7 @@ std::set<std::array<double, 3>> vertexPositions(const std::vector<CellVisibility
 std::pair<std::set<std::array<double, 3>>, std::set<std::array<double, 3>>> vertexHistory(
     MesherConfig config, const std::vector<Keyframe>& keyframes, UpdateStats& totals) {
   config.steiner_step_m = 4.0;
-  if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = boundsOf(keyframes);
+  if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = test::keyframeBounds(keyframes);
   Mesher mesher(config);
   std::set<std::array<double, 3>> ever;
   for (const Keyframe& keyframe : keyframes) {

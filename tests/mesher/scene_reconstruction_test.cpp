@@ -29,23 +29,10 @@ AnalyticScene makeScene(SceneKind kind) {
   return {};
 }
 
-AxisAlignedBox boundsOf(const std::vector<Keyframe>& keyframes) {
-  AxisAlignedBox box{Eigen::Vector3d::Constant(1e300), Eigen::Vector3d::Constant(-1e300)};
-  for (const Keyframe& keyframe : keyframes) {
-    box.min_W = box.min_W.cwiseMin(keyframe.position_W_C);
-    box.max_W = box.max_W.cwiseMax(keyframe.position_W_C);
-    for (const auto& o : keyframe.observations) {
-      box.min_W = box.min_W.cwiseMin(o.position_W);
-      box.max_W = box.max_W.cwiseMax(o.position_W);
-    }
-  }
-  return box;
-}
-
 MesherConfig configFor(MesherMode mode, const std::vector<Keyframe>& keyframes) {
   MesherConfig config = MesherConfig::forMode(mode);
   config.steiner_step_m = 4.0;  // rooms of a few metres need a finer grid than streets
-  if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = boundsOf(keyframes);
+  if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = test::keyframeBounds(keyframes);
   // romanoni15 as its authors ran it spreads every crossing (no cap) and so carves behind
   // surfaces: 38% of the plane's matter probe, 12% of the room's (docs/algorithms.md). These
   // probes check this project's capped weights.

@@ -10,19 +10,6 @@
 namespace terramesh::mesher {
 namespace {
 
-AxisAlignedBox boundsOf(const std::vector<Keyframe>& keyframes) {
-  AxisAlignedBox box{Eigen::Vector3d::Constant(1e300), Eigen::Vector3d::Constant(-1e300)};
-  for (const Keyframe& keyframe : keyframes) {
-    box.min_W = box.min_W.cwiseMin(keyframe.position_W_C);
-    box.max_W = box.max_W.cwiseMax(keyframe.position_W_C);
-    for (const auto& o : keyframe.observations) {
-      box.min_W = box.min_W.cwiseMin(o.position_W);
-      box.max_W = box.max_W.cwiseMax(o.position_W);
-    }
-  }
-  return box;
-}
-
 bool hasVertexAt(const Mesher& mesher, const Eigen::Vector3d& p) {
   for (const CellVisibility& cell : mesher.cellVisibility()) {
     for (const Eigen::Vector3d& v : cell.vertices_W) {
@@ -86,7 +73,7 @@ TEST(DeferredMove, AMovedPointWhoseStarTouchesOKeepsItsVertexUntilItCanMove) {
   config.steiner_step_m = 4.0;
   std::vector<Keyframe> all = keyframes;
   all.push_back(far);
-  config.fixed_grid_bounds_W = boundsOf(all);
+  config.fixed_grid_bounds_W = test::keyframeBounds(all);
   Mesher mesher(config);
   for (const Keyframe& keyframe : keyframes) mesher.integrateKeyframe(keyframe);
   ASSERT_TRUE(hasVertexAt(mesher, target.position_W));

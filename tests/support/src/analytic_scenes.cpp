@@ -237,4 +237,17 @@ std::vector<mesher::Keyframe> withFinalEstimates(const std::vector<mesher::Keyfr
   return result;
 }
 
+mesher::AxisAlignedBox keyframeBounds(const std::vector<mesher::Keyframe>& keyframes) {
+  mesher::AxisAlignedBox box{Eigen::Vector3d::Constant(1e300), Eigen::Vector3d::Constant(-1e300)};
+  for (const mesher::Keyframe& keyframe : keyframes) {
+    box.min_W = box.min_W.cwiseMin(keyframe.position_W_C);
+    box.max_W = box.max_W.cwiseMax(keyframe.position_W_C);
+    for (const auto& o : keyframe.observations) {
+      box.min_W = box.min_W.cwiseMin(o.position_W);
+      box.max_W = box.max_W.cwiseMax(o.position_W);
+    }
+  }
+  return box;
+}
+
 }  // namespace terramesh::test

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mesher/keyframe.h"
+#include "mesher/mesher_config.h"
 
 namespace terramesh::test {
 
@@ -55,5 +56,9 @@ std::vector<mesher::Keyframe> withMovingEstimates(const std::vector<mesher::Keyf
 /// The final estimate of every point (its position in the last keyframe that observes it),
 /// applied to every observation: the stream a SLAM system would give if it had known the end.
 std::vector<mesher::Keyframe> withFinalEstimates(const std::vector<mesher::Keyframe>& keyframes);
+
+/// The box around every camera centre and observed point of `keyframes` (a fixed Steiner grid's
+/// bounds for the modes that need one).
+mesher::AxisAlignedBox keyframeBounds(const std::vector<mesher::Keyframe>& keyframes);
 
 }  // namespace terramesh::test
