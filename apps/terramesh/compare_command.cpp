@@ -47,6 +47,7 @@ struct CompareOptions {
   std::size_t pairs = 10;
   double pair_min_distance_m = 5;
   double snap_radius_m = 1;
+  bool allow_unknown = false;
   double camera_height_m = 1.65;
   std::size_t samples = 100000;
   int stride_px = 8;
@@ -75,6 +76,8 @@ void addOptions(CLI::App& app, CompareOptions& o) {
       ->check(CLI::PositiveNumber);
   app.add_option("--snap-radius-m", o.snap_radius_m, "start/goal snap to walkable surface within this")->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_flag("--allow-unknown", o.allow_unknown,
+               "planning may cross unknown faces (Nav2's allow_unknown; cost as dear as the dearest free face)");
   app.add_option("--camera-height-m", o.camera_height_m,
                  "without labelled truth: pairs are drawn on the road this far below the keyframe centres")->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -268,6 +271,9 @@ int runCompare(const std::vector<std::string>& args) {
                     std::to_string(o.camera_height_m) + " m (the road under the camera; no labelled truth)";
     }
   }
+  if (o.allow_unknown && !pairs.empty()) {
+    setup.pairs += "; planning may cross unknown faces (--allow-unknown, unknown cost 1: the dearest free cost)";
+  }
   PathTruth path_truth;
   if (labelled && profile) {
     path_truth.mesh = &*labelled;
@@ -278,6 +284,7 @@ int runCompare(const std::vector<std::string>& args) {
 
   planning::WalkabilityConfig walkability;
   if (profile) walkability.min_lethal_distance_m = profile->inscribed_radius_m;
+  walkability.allow_unknown = o.allow_unknown;
   for (CompareRow& row : rows) {
     if (!row.built.ok) continue;
     const auto started = std::chrono::steady_clock::now();

@@ -56,8 +56,9 @@ std::string describe(const planning::PlanResult& result) {
   std::ostringstream out;
   out << "planner " << result.planner << "\nstatus " << planning::toString(result.status) << "\nreason "
       << (result.reason.empty() ? "-" : result.reason) << "\ntime_s " << result.planning_time_s << "\nsimplify_time_s "
-      << result.simplify_time_s << "\nlength_m " << result.length_m << "\ncost " << result.cost << "\nfirst_cost "
-      << result.first_cost << "\nfirst_time_s " << result.first_time_s << "\nstates " << result.states.size() << '\n';
+      << result.simplify_time_s << "\nlength_m " << result.length_m << "\ncost " << result.cost << "\nunknown_length_m "
+      << result.unknown_length_m << "\nfirst_cost " << result.first_cost << "\nfirst_time_s " << result.first_time_s
+      << "\nstates " << result.states.size() << '\n';
   return out.str();
 }
 
@@ -78,7 +79,8 @@ int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConf
                                          {}};
   planning::BenchmarkPlannerRuns graph_runs{"graph_astar", {"time REAL", "solved BOOLEAN", "surface length REAL", "path cost REAL"}, {}};
   std::ostringstream csv;
-  csv << "pair,start_x,start_y,start_z,goal_x,goal_y,goal_z,status,length_m,cost,time_s,graph_cost,graph_time_s\n";
+  csv << "pair,start_x,start_y,start_z,goal_x,goal_y,goal_z,status,length_m,cost,time_s,graph_cost,graph_time_s,"
+         "unknown_length_m\n";
   std::size_t solved = 0;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const Eigen::Vector3d a = pairs[i].first.point_W, b = pairs[i].second.point_W;
@@ -93,7 +95,8 @@ int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConf
                                graph_result.cost});
     csv << i << ',' << a.x() << ',' << a.y() << ',' << a.z() << ',' << b.x() << ',' << b.y() << ',' << b.z() << ','
         << planning::toString(result.status) << ',' << result.length_m << ',' << result.cost << ','
-        << result.planning_time_s << ',' << graph_result.cost << ',' << graph_result.planning_time_s << '\n';
+        << result.planning_time_s << ',' << graph_result.cost << ',' << graph_result.planning_time_s << ','
+        << result.unknown_length_m << '\n';
   }
   planning::BenchmarkExperiment experiment;
   experiment.name = "terramesh_plan";
@@ -124,11 +127,11 @@ int runPlan(const std::vector<std::string>& args) {
       "goal is unreachable (one-line reason)");
   std::string map_dir, output_dir, planner = "bitstar";
   std::vector<double> start_xyz, goal_xyz;
-  double time_budget_s = 2, snap_radius_m = 0.5;
+  double time_budget_s = 2, time_cap_s = 0, snap_radius_m = 0.5, unknown_cost = 1.0;
   std::uint32_t seed = 1;
   std::optional<std::size_t> random_pairs;
   std::optional<std::string> robot;
-  bool no_simplify = false, quiet = false;
+  bool no_simplify = false, quiet = false, allow_unknown = false;
   app.add_option("MAP_DIR", map_dir,
                  "map directory written by terramesh traverse (traversability.ply, robot.yaml, map_frame.yaml)")
       ->required();
@@ -140,6 +143,13 @@ int runPlan(const std::vector<std::string>& args) {
   app.add_option("--planner", planner,
                  "rrtstar, informed-rrtstar, prmstar, lazyprmstar, bitstar, aitstar, or graph (A* baseline)");
   app.add_option("--time-budget-s", time_budget_s, "planning time budget per query");
+  app.add_option("--time-cap-s", time_cap_s,
+                 "without a path after the budget, keep searching until one is found or this much time has passed "
+                 "(0: no extension)");
+  app.add_flag("--allow-unknown", allow_unknown,
+               "drive over unknown faces too (Nav2's allow_unknown), at --unknown-cost; never over lethal ones");
+  app.add_option("--unknown-cost", unknown_cost, "cost in [0, 1] of an unknown face with --allow-unknown")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--seed", seed, "random seed (> 0)")->check(positiveNumber());
   app.add_option("--snap-radius-m", snap_radius_m, "start and goal must lie this close to a walkable face");
   app.add_option("--random-pairs", random_pairs, "plan between N random pairs instead; writes benchmark.log and pairs.csv")
@@ -159,6 +169,7 @@ int runPlan(const std::vector<std::string>& args) {
   const bool graph_only = planner == "graph";
   config.planner = graph_only ? "rrtstar" : planner;
   config.time_budget_s = time_budget_s;
+  config.time_cap_s = time_cap_s;
   config.seed = seed;
   config.snap_radius_m = snap_radius_m;
   config.simplify = !no_simplify;
@@ -176,6 +187,8 @@ int runPlan(const std::vector<std::string>& args) {
   }
   planning::WalkabilityConfig walkability;
   walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
+  walkability.allow_unknown = allow_unknown;
+  walkability.unknown_cost = unknown_cost;
   const planning::FaceGraph graph(map.map, walkability);
   planning::setOmplLogging(false);
   planning::seedOmpl(config.seed);

@@ -66,6 +66,7 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
   drainQueue(stats);
   if (state_.config.edge_growing_pass) edgePass(stats);
   genusPass(stats);
+  if (state_.config.edge_growing_pass) ballPass(stats);
 }
 
 void Grower::edgePass(UpdateStats& stats) {
@@ -100,6 +101,74 @@ void Grower::edgePass(UpdateStats& stats) {
       }
     }
   }
+  ball_candidates_ = std::move(refused);
+}
+
+bool Grower::tryAddSet(std::vector<CellHandle>& set, UpdateStats& stats) {
+  if (set.size() < 2 || !state_.outside.canAddAll(set)) return false;
+  for (const CellHandle& h : set) {
+    state_.outside.add(h);
+    ++stats.cells_grown;
+    ++stats.edge_pass_cells;
+  }
+  for (const CellHandle& h : set) pushFreeNeighbours(h);
+  drainQueue(stats);
+  return true;
+}
+
+std::uint64_t Grower::neighbourhoodSignature(const CellHandle& cell) const {
+  // Changes when the cell's weight or the number of O-cells around one of its vertices changes:
+  // the events that can turn a refused ball into an accepted one.
+  std::uint64_t signature = static_cast<std::uint32_t>(cell->info().weight);
+  for (int i = 0; i < 4; ++i) signature = signature * 0x9E3779B97F4A7C15ull + cell->vertex(i)->info().outside_cells + 1;
+  return signature;
+}
+
+bool Grower::tryAddBall(const CellHandle& cell, UpdateStats& stats) {
+  std::vector<CellHandle>& set = ball_;
+  for (int i = 0; i < 4; ++i) {
+    const CellHandle n = cell->neighbor(i);
+    if (n->info().outside() || state_.tri.is_infinite(n) || !state_.weights.isFree(n)) continue;
+    set.assign({cell, n});
+    if (tryAddSet(set, stats)) return true;
+  }
+  const std::uint32_t mark = state_.nextMark();
+  set.clear();
+  for (int i = 0; i < 4; ++i) {
+    scratch_.clear();
+    state_.tri.incident_cells(cell->vertex(i), std::back_inserter(scratch_));
+    for (const CellHandle& h : scratch_) {
+      if (h->info().mark == mark) continue;
+      h->info().mark = mark;
+      if (!h->info().outside() && !state_.tri.is_infinite(h) && state_.weights.isFree(h)) set.push_back(h);
+    }
+  }
+  return tryAddSet(set, stats);
+}
+
+void Grower::ballPass(UpdateStats& stats) {
+  std::vector<CellHandle> refused;
+  refused.swap(ball_candidates_);
+  refused.insert(refused.end(), final_refused_.begin(), final_refused_.end());
+  final_refused_.clear();
+  const auto min_weight =
+      static_cast<std::int32_t>(std::lround(state_.config.edge_pass_min_weight * WeightField::kFixedPointScale));
+  std::size_t attempts = 0;
+  for (std::size_t r = 0; r < refused.size() && attempts < kMaxBallAttemptsPerGrow; ++r) {
+    const CellHandle cell = refused[r];
+    if (cell->info().outside() || cell->info().weight < min_weight || !adjacentToOutside(cell)) continue;
+    // A ball refused before, in the same neighbourhood, would be refused again.
+    const std::uint64_t signature = neighbourhoodSignature(cell);
+    const auto [memo, inserted] = ball_refusals_.try_emplace(cell->info().uid, signature);
+    if (!inserted && memo->second == signature) continue;
+    memo->second = signature;
+    ++attempts;
+    if (!tryAddBall(cell, stats)) continue;
+    refused.insert(refused.end(), final_refused_.begin(), final_refused_.end());
+    final_refused_.clear();
+  }
+  // Stale entries (cells destroyed or carved since) only cost memory: forget them all now and then.
+  if (ball_refusals_.size() > kMaxBallRefusalsRemembered) ball_refusals_.clear();
 }
 
 void Grower::drainQueue(UpdateStats& stats) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <queue>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -13,7 +14,11 @@ namespace terramesh::mesher::internal {
 /// Manifold growing: carves free cells into O in order of decreasing weight, adding a cell only if
 /// the boundary stays a 2-manifold; then (proposed mode) the edge pass, which adds all free cells
 /// around an edge of a refused cell at once; then the per-vertex pass that adds all cells around a
-/// boundary vertex at once (which lets the surface change genus).
+/// boundary vertex at once (which lets the surface change genus); then (proposed mode) the ball
+/// pass, which adds a heavy refused cell with one free neighbour or with every free cell sharing a
+/// vertex with it (issue 14: on the synthetic street it carves free space the single-cell, edge
+/// and vertex tests all refuse; docs/accuracy.md). The edge and ball passes count their cells in
+/// UpdateStats::edge_pass_cells and are switched off together (`edge_growing_pass`).
 class Grower {
  public:
   explicit Grower(MapState& state) : state_(state) {}
@@ -42,6 +47,20 @@ class Grower {
   /// edges; growing resumes after each success.
   void edgePass(UpdateStats& stats);
   void scanVertex(const VertexHandle& v);
+  /// Adds all of `set` (at least two cells, none in O) if that keeps the boundary manifold, then
+  /// resumes growing from them. Returns whether it did.
+  bool tryAddSet(std::vector<CellHandle>& set, UpdateStats& stats);
+  /// Tries `cell` together with one free face-neighbour, then with every free non-O cell sharing a
+  /// vertex with it (its ball).
+  bool tryAddBall(const CellHandle& cell, UpdateStats& stats);
+  /// For each heavy cell still refused after the edge and per-vertex passes, tries its ball; a
+  /// ball refused before is tried again only once the cell's neighbourhood changed, at most
+  /// kMaxBallAttemptsPerGrow per update.
+  void ballPass(UpdateStats& stats);
+  std::uint64_t neighbourhoodSignature(const CellHandle& cell) const;
+
+  static constexpr std::size_t kMaxBallAttemptsPerGrow = 32;
+  static constexpr std::size_t kMaxBallRefusalsRemembered = 1u << 16;
 
   MapState& state_;
   std::priority_queue<QueueEntry> queue_;
@@ -49,6 +68,11 @@ class Grower {
   std::vector<CellHandle> scratch_;
   /// Cells refused at the end of the drains of this grow, for the edge pass.
   std::vector<CellHandle> final_refused_;
+  /// Cells the edge pass tried, for the ball pass.
+  std::vector<CellHandle> ball_candidates_;
+  std::vector<CellHandle> ball_;
+  /// Cells whose ball was refused (by CellInfo::uid), with their neighbourhood signature then.
+  std::unordered_map<std::uint32_t, std::uint64_t> ball_refusals_;
 };
 
 }  // namespace terramesh::mesher::internal

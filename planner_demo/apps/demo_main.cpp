@@ -43,6 +43,8 @@ struct Options {
   std::size_t pairs = 10;
   std::string planner = "bitstar";
   double time_budget_s = 1.0;
+  double time_cap_s = 0.0;
+  bool allow_unknown = false;
   double resolution_m = 0.2;
   std::uint32_t seed = 1;
   double snap_radius_m = 0.5;
@@ -70,6 +72,8 @@ Options parse(int argc, char** argv) {
     if (arg == "--pairs") options.pairs = std::stoul(value());
     else if (arg == "--planner") options.planner = value();
     else if (arg == "--time-budget-s") options.time_budget_s = std::stod(value());
+    else if (arg == "--time-cap-s") options.time_cap_s = std::stod(value());
+    else if (arg == "--allow-unknown") options.allow_unknown = true;
     else if (arg == "--resolution-m") options.resolution_m = std::stod(value());
     else if (arg == "--seed") options.seed = static_cast<std::uint32_t>(std::stoul(value()));
     else if (arg == "--snap-radius-m") options.snap_radius_m = std::stod(value());
@@ -82,7 +86,7 @@ Options parse(int argc, char** argv) {
   if (positional.size() != 3) {
     throw std::invalid_argument(
         "usage: planner_demo SCENE_DIR|STREAM MAP_DIR OUT_DIR [--pairs N] [--planner NAME] [--time-budget-s T] "
-        "[--resolution-m R] [--seed S] [--snap-radius-m R] [--start X Y Z --goal X Y Z | --camera-height-m H]");
+        "[--time-cap-s T] [--allow-unknown] [--resolution-m R] [--seed S] [--snap-radius-m R] [--start X Y Z --goal X Y Z | --camera-height-m H]");
   }
   if (options.start.has_value() != options.goal.has_value()) throw std::invalid_argument("give both --start and --goal");
   if (options.start && options.camera_height_m) throw std::invalid_argument("--start/--goal and --camera-height-m exclude each other");
@@ -142,6 +146,7 @@ int run(const Options& options) {
   const traversability::MapDirectory map = traversability::readMapDirectory(options.map);
   planning::WalkabilityConfig walkability;
   walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
+  walkability.allow_unknown = options.allow_unknown;
   const auto graph_started = Clock::now();
   const planning::FaceGraph graph(map.map, walkability);
   const double graph_time = std::chrono::duration<double>(Clock::now() - graph_started).count();
@@ -180,6 +185,7 @@ int run(const Options& options) {
   planning::PlannerConfig config;
   config.planner = options.planner;
   config.time_budget_s = options.time_budget_s;
+  config.time_cap_s = options.time_cap_s;
   config.seed = options.seed;
   config.snap_radius_m = options.snap_radius_m;
   config.validate();

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
@@ -22,6 +23,7 @@ void WalkabilityConfig::validate() const {
   if (!(max_face_tilt_deg > 0 && max_face_tilt_deg <= 90)) {
     problems << " max_face_tilt_deg: " << max_face_tilt_deg << " (expected in (0, 90]);";
   }
+  if (!(unknown_cost >= 0 && unknown_cost <= 1)) problems << " unknown_cost: " << unknown_cost << " (expected in [0, 1]);";
   const std::string text = problems.str();
   if (!text.empty()) throw std::invalid_argument("WalkabilityConfig:" + text);
 }
@@ -64,6 +66,12 @@ FaceGraph::FaceGraph(const traversability::LayeredMesh& map, const WalkabilityCo
   computeComponents();
 }
 
+double FaceGraph::plannedCost(std::uint32_t f) const {
+  if (!walkable_[f]) return std::numeric_limits<double>::quiet_NaN();
+  if (layers_[f].face_class == traversability::FaceClass::kUnknown) return config_.unknown_cost;
+  return std::clamp(static_cast<double>(layers_[f].cost), 0.0, 1.0);
+}
+
 Eigen::Vector3d FaceGraph::centroid(std::uint32_t f) const {
   const auto& t = faces_[f];
   return (vertices_[t[0]] + vertices_[t[1]] + vertices_[t[2]]) / 3.0;
@@ -84,11 +92,13 @@ void FaceGraph::computeWalkability(const traversability::LayeredMesh& map) {
     normals_[f] = norm > 0 ? Eigen::Vector3d(cross / norm) : Eigen::Vector3d::Zero();
     const traversability::FaceLayers& layer = map.layers[f];
     const bool free = layer.face_class == traversability::FaceClass::kFree && std::isfinite(layer.cost);
+    const bool unknown = config_.allow_unknown && layer.face_class == traversability::FaceClass::kUnknown;
     const bool far_from_lethal = !(layer.lethal_distance_m < config_.min_lethal_distance_m);
     const bool facing_up = normals_[f].dot(up_W_) >= min_up;
-    if (free && far_from_lethal && facing_up && norm > 0) {
+    if ((free || unknown) && far_from_lethal && facing_up && norm > 0) {
       walkable_[f] = 1;
-      multipliers_[f] = 1.0 + config_.cost_weight * std::clamp(static_cast<double>(layer.cost), 0.0, 1.0);
+      const double cost = free ? std::clamp(static_cast<double>(layer.cost), 0.0, 1.0) : config_.unknown_cost;
+      multipliers_[f] = 1.0 + config_.cost_weight * cost;
       walkable_faces_.push_back(static_cast<std::uint32_t>(f));
     }
   }

@@ -1,13 +1,13 @@
 // SE(2) planning over the 2.5D grid of the OctoMap baseline, with the same OMPL planners.
 #include "planning/grid_planner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/spaces/SE2StateSpace.h>
 #include <ompl/geometric/SimpleSetup.h>
-#include <ompl/util/Exception.h>
 #include <optional>
 #include <queue>
 #include <stdexcept>
@@ -163,14 +163,8 @@ GridPlanResult planOnGrid(const HeightGrid& grid, const Eigen::Vector3d& start_W
   setup.setStartAndGoalStates(start, goal, 1e-9);
   setup.setPlanner(internal::makePlanner(config.planner, si, config.range_m));
   const auto started = Clock::now();
-  ompl::base::PlannerStatus status = ompl::base::PlannerStatus::UNKNOWN;
-  std::string planner_error;
-  try {
-    setup.setup();
-    status = setup.solve(config.time_budget_s);
-  } catch (const ompl::Exception& error) {
-    planner_error = error.what();
-  }
+  const internal::PlannerClearer clearer(setup);
+  const auto [status, planner_error] = internal::solveWithinCap(setup, config.time_budget_s, config.time_cap_s, started);
   result.planning_time_s = std::chrono::duration<double>(Clock::now() - started).count();
   if (status != ompl::base::PlannerStatus::EXACT_SOLUTION || !setup.haveExactSolutionPath()) {
     result.status = PlanStatus::kNotFound;

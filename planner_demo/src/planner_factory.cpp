@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <ompl/geometric/planners/informedtrees/AITstar.h>
+#include <ompl/util/Exception.h>
 #include <ompl/geometric/planners/informedtrees/BITstar.h>
 #include <ompl/geometric/planners/prm/LazyPRMstar.h>
 #include <ompl/geometric/planners/prm/PRMstar.h>
@@ -50,6 +51,23 @@ ompl::base::PlannerPtr makePlanner(const std::string& name, const ompl::base::Sp
   if (*canonical == "lazyprmstar") return std::make_shared<ompl::geometric::LazyPRMstar>(si);
   if (*canonical == "bitstar") return std::make_shared<ompl::geometric::BITstar>(si);
   return std::make_shared<ompl::geometric::AITstar>(si);
+}
+
+SolveOutcome solveWithinCap(ompl::geometric::SimpleSetup& setup, double budget_s, double cap_s,
+                            std::chrono::steady_clock::time_point started) {
+  SolveOutcome outcome;
+  try {
+    setup.setup();
+    outcome.status = setup.solve(budget_s);
+    while (!setup.haveExactSolutionPath() && cap_s > 0) {
+      const double left = cap_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      if (left <= 0) break;
+      outcome.status = setup.solve(std::min(budget_s, left));
+    }
+  } catch (const ompl::Exception& error) {
+    outcome.planner_error = error.what();
+  }
+  return outcome;
 }
 
 }  // namespace internal

@@ -1,5 +1,6 @@
 #include "planning/surface_planner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -7,7 +8,6 @@
 #include <ompl/base/goals/GoalState.h>
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/util/Console.h>
-#include <ompl/util/Exception.h>
 #include <ompl/util/RandomNumbers.h>
 #include <optional>
 #include <random>
@@ -60,7 +60,7 @@ std::optional<PlanResult> prepare(const FaceGraph& graph, const Eigen::Vector3d&
 }
 
 PathState pathState(const FaceGraph& graph, const SurfaceLocation& location, double yaw) {
-  return PathState{location, yaw, static_cast<double>(graph.layers(location.face).cost)};
+  return PathState{location, yaw, graph.plannedCost(location.face)};
 }
 
 /// Dense states through the given polyline points; headings follow the direction of travel.
@@ -79,6 +79,13 @@ void densify(const FaceGraph& graph, const std::vector<SurfaceLocation>& points,
     const Eigen::Vector3d direction = result.states[b].location.point_W - result.states[a].location.point_W;
     result.states[i].yaw_rad = direction.norm() > 0 ? headingAbout(direction, graph.up()) : 0.0;
   }
+  // Piece i (states i to i + 1) lies on state i's face.
+  result.unknown_length_m = 0;
+  for (std::size_t i = 0; i + 1 < result.states.size(); ++i) {
+    if (!graph.walkableUnknown(result.states[i].location.face)) continue;
+    result.unknown_length_m +=
+        (result.states[i + 1].location.point_W - result.states[i].location.point_W).norm() * graph.metresPerUnit();
+  }
 }
 
 }  // namespace
@@ -91,6 +98,7 @@ void PlannerConfig::validate() const {
     problems << ");";
   }
   if (!(time_budget_s > 0) || !std::isfinite(time_budget_s)) problems << " time_budget_s: " << time_budget_s << " (expected > 0);";
+  if (!(time_cap_s >= 0) || !std::isfinite(time_cap_s)) problems << " time_cap_s: " << time_cap_s << " (expected >= 0);";
   if (seed == 0) problems << " seed: 0 (expected > 0, OMPL's seeds are positive);";
   if (!(snap_radius_m >= 0) || !std::isfinite(snap_radius_m)) problems << " snap_radius_m: " << snap_radius_m << " (expected >= 0);";
   if (!(range_m > 0) || !std::isfinite(range_m)) problems << " range_m: " << range_m << " (expected > 0);";
@@ -156,19 +164,12 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
         result.first_cost = cost.value();
         result.first_time_s = std::chrono::duration<double>(Clock::now() - started).count();
       });
-  setup.setup();
-  ompl::base::PlannerStatus status = ompl::base::PlannerStatus::UNKNOWN;
-  std::string planner_error;
-  try {
-    status = setup.solve(config.time_budget_s);
-  } catch (const ompl::Exception& error) {
-    // LazyPRM* throws when its roadmap holds no valid path at the deadline: an expected outcome.
-    planner_error = error.what();
-  }
+  const internal::PlannerClearer clearer(setup);
+  const auto [status, planner_error] = internal::solveWithinCap(setup, config.time_budget_s, config.time_cap_s, started);
   result.planning_time_s = std::chrono::duration<double>(Clock::now() - started).count();
   if (status != ompl::base::PlannerStatus::EXACT_SOLUTION || !setup.haveExactSolutionPath()) {
     result.status = PlanStatus::kNotFound;
-    result.reason = "the planner found no path within " + std::to_string(config.time_budget_s) + " s (" +
+    result.reason = "the planner found no path within " + std::to_string(result.planning_time_s) + " s (" +
                     (planner_error.empty() ? status.asString() : planner_error) + ")";
     return result;
   }

@@ -28,7 +28,14 @@ class WeightFormula : public ::testing::Test {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> coordinate(-3.0, 3.0);
     for (int i = 0; i < 60; ++i) {
-      const VertexHandle v = state_->tri.insert(Point(coordinate(rng), coordinate(rng), coordinate(rng)));
+      // One draw per statement: the order in which a call's arguments are evaluated is
+      // unspecified (gcc goes right to left, clang left to right), and Point(coordinate(rng), ...)
+      // gave each compiler a different scene, in which the first ray of clang's crosses only two
+      // cells. z, y, x is the order gcc used, the scene the literal checks below were written on.
+      const double z = coordinate(rng);
+      const double y = coordinate(rng);
+      const double x = coordinate(rng);
+      const VertexHandle v = state_->tri.insert(Point(x, y, z));
       const std::uint32_t index = state_->registry.findOrCreatePoint(PointId{static_cast<std::uint64_t>(i)});
       state_->registry.point(index).vertex = v;
       points_.push_back(index);

@@ -89,6 +89,15 @@ traversability::LayeredMesh wallWithGapMap() {
   return builder.finish();
 }
 
+traversability::LayeredMesh unknownGapMap(bool all_lethal) {
+  LayeredMeshBuilder builder;
+  builder.sheet(0, 20, 0, 10, 0.5, [](double, double) { return 0.0; }, [all_lethal](const Eigen::Vector3d& c) {
+    if (c.x() < 9.5 || c.x() > 10.5) return std::optional<FaceClass>(FaceClass::kFree);
+    return std::optional<FaceClass>(c.y() < 6 || all_lethal ? FaceClass::kLethal : FaceClass::kUnknown);
+  });
+  return builder.finish();
+}
+
 traversability::LayeredMesh twoLevelMap() {
   LayeredMeshBuilder builder;
   auto flat = [](double h) { return [h](double, double) { return h; }; };

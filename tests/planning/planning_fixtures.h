@@ -35,6 +35,11 @@ class LayeredMeshBuilder {
 /// from x < 9.5 to x > 10.5 is round its end.
 traversability::LayeredMesh wallWithGapMap();
 
+/// A 20 x 10 m floor (0.5 m cells) at z = 0 cut by a strip x in [9.5, 10.5] across its whole
+/// width: lethal for y < 6, unknown for y > 6 (or lethal throughout with `all_lethal`). The only
+/// way from x < 9.5 to x > 10.5 is over the unknown part.
+traversability::LayeredMesh unknownGapMap(bool all_lethal = false);
+
 /// Two floors over the same ground: level 0 at z = 0 over [0, 20] x [0, 10], level 1 at z = 3 over
 /// [0, 40] x [4, 10], joined only by a ramp over [20, 40] x [0, 4] (z from 0 to 3, 8.5 degrees)
 /// and a landing at z = 3 over [40, 44] x [0, 10]. Also a box [10, 12] x [1, 3], 1 m high, with

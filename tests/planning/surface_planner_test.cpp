@@ -26,10 +26,17 @@ WalkabilityConfig walkability() {
   return config;
 }
 
+/// Whether a planner finds a path must not depend on how loaded the machine running the test is:
+/// past `budget_s` without an exact path it keeps searching, up to a generous cap (only reached
+/// if the planner is truly stuck). What the tests check of a solved path holds for any valid
+/// path, however little time it had to improve.
+constexpr double kTimeCapS = 60.0;
+
 PlannerConfig plannerConfig(const std::string& name, double budget_s) {
   PlannerConfig config;
   config.planner = name;
   config.time_budget_s = budget_s;
+  config.time_cap_s = kTimeCapS;
   config.seed = 3;
   return config;
 }
@@ -109,7 +116,7 @@ TEST_F(SurfacePlannerTest, BetweenFloorsOnlyOverTheRamp) {
   // the floor below and rarely reaches the far floor in a few seconds (docs/planning.md).
   for (const std::string& name : {std::string("bitstar"), std::string("prmstar"), std::string("aitstar")}) {
     SCOPED_TRACE(name);
-    const PlanResult result = planOnSurface(graph, start, goal, plannerConfig(name, 4.0));
+    const PlanResult result = planOnSurface(graph, start, goal, plannerConfig(name, 1.0));
     ASSERT_TRUE(result.solved()) << result.reason;
     expectOnWalkableSurface(graph, result);
     bool on_ramp = false;
@@ -128,6 +135,20 @@ TEST_F(SurfacePlannerTest, BetweenFloorsOnlyOverTheRamp) {
   }
 }
 
+TEST_F(SurfacePlannerTest, APlannerResumedInShortRoundsReturnsAValidPath) {
+  const FaceGraph graph(test::twoLevelMap(), walkability());
+  // A 10 ms budget is usually too short for a path between the floors (69 m over the ramp): the
+  // planner resumes its tree or roadmap in 10 ms rounds, and the path it ends with is as valid
+  // as one found in a single round.
+  for (const std::string& name : {std::string("bitstar"), std::string("prmstar"), std::string("aitstar")}) {
+    SCOPED_TRACE(name);
+    const PlanResult resumed = planOnSurface(graph, {6, 7, 0}, {6, 7, 3}, plannerConfig(name, 0.01));
+    ASSERT_TRUE(resumed.solved()) << resumed.reason;
+    expectOnWalkableSurface(graph, resumed);
+    EXPECT_GT(resumed.length_m, 60.0);
+  }
+}
+
 TEST_F(SurfacePlannerTest, ObstacleTopAndUnknownRegionAreReportedUnreachable) {
   const FaceGraph graph(test::twoLevelMap(), walkability());
   const PlannerConfig config = plannerConfig("rrtstar", 0.5);
@@ -139,6 +160,47 @@ TEST_F(SurfacePlannerTest, ObstacleTopAndUnknownRegionAreReportedUnreachable) {
   const PlanResult far_away = planOnSurface(graph, {6, 7, 10}, {15, 7, 0}, config);
   EXPECT_EQ(far_away.status, PlanStatus::kNoStart);
   EXPECT_EQ(planOnFaceGraph(graph, {6, 7, 0}, {11, 2, 1}, config).status, PlanStatus::kUnreachable);
+}
+
+TEST_F(SurfacePlannerTest, AllowUnknownCrossesTheUnknownStripButNeverALethalFace) {
+  const Eigen::Vector3d start(3, 2, 0), goal(17, 2, 0);
+  const PlannerConfig config = plannerConfig("bitstar", 0.5);
+  // Without allow_unknown the strip cuts the floor in two.
+  const FaceGraph closed(test::unknownGapMap(), walkability());
+  EXPECT_EQ(planOnFaceGraph(closed, start, goal, config).status, PlanStatus::kUnreachable);
+  EXPECT_EQ(planOnSurface(closed, start, goal, config).status, PlanStatus::kUnreachable);
+
+  WalkabilityConfig allow = walkability();
+  allow.allow_unknown = true;
+  const FaceGraph open(test::unknownGapMap(), allow);
+  const double free_multiplier = 1 + 4.0 * 0.2, unknown_multiplier = 1 + 4.0 * allow.unknown_cost;
+  for (const std::string& name : {std::string("graph"), std::string("bitstar"), std::string("rrtstar")}) {
+    SCOPED_TRACE(name);
+    const PlanResult result = name == "graph" ? planOnFaceGraph(open, start, goal, config)
+                                              : planOnSurface(open, start, goal, plannerConfig(name, 0.5));
+    ASSERT_TRUE(result.solved()) << result.reason;
+    ASSERT_GE(result.states.size(), 2u);
+    for (std::size_t i = 0; i < result.states.size(); ++i) {
+      const std::uint32_t face = result.states[i].location.face;
+      EXPECT_TRUE(open.walkable(face)) << "state " << i;
+      EXPECT_NE(open.layers(face).face_class, FaceClass::kLethal) << "state " << i;
+      if (i == 0) continue;
+      // The truth's obstacle is the lethal part of the strip (x 9.5..10.5, y < 6).
+      EXPECT_FALSE(segmentMeetsRectangle(result.states[i - 1].location.point_W, result.states[i].location.point_W, 9.5,
+                                         10.5, 0, 6))
+          << "piece " << i << " crosses the lethal part of the strip";
+    }
+    // It crosses the 1 m strip over unknown faces, and pays the documented cost for it.
+    EXPECT_GE(result.unknown_length_m, 1.0 - 1e-6);
+    EXPECT_LT(result.unknown_length_m, result.length_m);
+    EXPECT_NEAR(result.cost,
+                free_multiplier * (result.length_m - result.unknown_length_m) + unknown_multiplier * result.unknown_length_m,
+                1e-6 * result.cost);
+  }
+  // A lethal strip stays closed, unknown faces allowed or not.
+  const FaceGraph lethal(test::unknownGapMap(true), allow);
+  EXPECT_EQ(planOnFaceGraph(lethal, start, goal, config).status, PlanStatus::kUnreachable);
+  EXPECT_EQ(planOnSurface(lethal, start, goal, config).status, PlanStatus::kUnreachable);
 }
 
 TEST_F(SurfacePlannerTest, StartAndGoalInTheSameFace) {
@@ -189,6 +251,7 @@ TEST(PlannerConfigTest, ValidateListsEveryProblem) {
   config.planner = "dijkstra";
   config.time_budget_s = 0;
   config.seed = 0;
+  config.time_cap_s = -1;
   try {
     config.validate();
     FAIL() << "expected std::invalid_argument";
@@ -197,7 +260,11 @@ TEST(PlannerConfigTest, ValidateListsEveryProblem) {
     EXPECT_NE(text.find("planner"), std::string::npos);
     EXPECT_NE(text.find("time_budget_s"), std::string::npos);
     EXPECT_NE(text.find("seed"), std::string::npos);
+    EXPECT_NE(text.find("time_cap_s"), std::string::npos);
   }
+  WalkabilityConfig walkability_config;
+  walkability_config.unknown_cost = 1.5;
+  EXPECT_THROW(walkability_config.validate(), std::invalid_argument);
   config = PlannerConfig{};
   for (const char* name : {"RRT*", "informed RRT*", "PRM*", "LazyPRM*", "BIT*", "AIT*"}) {
     config.planner = name;

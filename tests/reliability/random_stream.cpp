@@ -29,7 +29,13 @@ bool RandomStream::chance(double p) { return uniform(0.0, 1.0) < p; }
 
 Eigen::Vector3d RandomStream::noisy(const Eigen::Vector3d& p) {
   std::normal_distribution<double> noise(0.0, config_.noise_std_m);
-  return p + Eigen::Vector3d(noise(rng_), noise(rng_), noise(rng_));
+  // One statement per draw: the order of a constructor's arguments is unspecified (gcc draws the
+  // last first, clang the first), so a one-line form gives each compiler a different stream.
+  // Drawn z, y, x: the order gcc used, so Release streams stay as they were.
+  const double dz = noise(rng_);
+  const double dy = noise(rng_);
+  const double dx = noise(rng_);
+  return p + Eigen::Vector3d(dx, dy, dz);
 }
 
 Eigen::Vector3d RandomStream::surfaceSample(const Eigen::Vector3d& camera_W) {
@@ -151,7 +157,10 @@ void RandomStream::makeCorrection(StreamEvent& event) {
   const auto index = static_cast<std::size_t>(uniform(static_cast<double>(first),
                                                       static_cast<double>(alive_.size() - 1)));
   SentKeyframe& sent = alive_[index];
-  sent.centre_W += Eigen::Vector3d(uniform(-0.1, 0.1), uniform(-0.1, 0.1), uniform(-0.05, 0.05));
+  const double dz = uniform(-0.05, 0.05);  // one draw per statement, z first (see noisy())
+  const double dy = uniform(-0.1, 0.1);
+  const double dx = uniform(-0.1, 0.1);
+  sent.centre_W += Eigen::Vector3d(dx, dy, dz);
   mesher::Keyframe& keyframe = event.keyframe;
   keyframe.id = sent.id;
   keyframe.position_W_C = sent.centre_W;

@@ -244,7 +244,41 @@ TEST(LayersTest, RectangleFootprintContactDependsOnHeading) {
   for (std::size_t f : middle) {
     EXPECT_EQ(map.layers[f].contact_best, 1.0f);
     EXPECT_LT(map.layers[f].contact, 0.6f);
+    EXPECT_EQ(map.layers[f].face_class, FaceClass::kFree) << "the car fits along the strip";
   }
+  // A 1.5 m wide strip: the 1.8 m wide car fits at no heading.
+  const LayeredMesh narrow =
+      compute(test::heightFieldMesh(-15, 15, -0.75, 0.75, 0.15, [](double, double) { return 0.0; }), car);
+  const auto narrow_middle =
+      facesWhere(narrow, [](const Eigen::Vector3d& c) { return std::abs(c.x()) < 1 && std::abs(c.y()) < 0.2; });
+  ASSERT_FALSE(narrow_middle.empty());
+  for (std::size_t f : narrow_middle) EXPECT_EQ(narrow.layers[f].face_class, FaceClass::kLethal);
+}
+
+TEST(LayersTest, RectangleBesideALedgeFitsAlongItNotAcrossIt) {
+  // A 0.4 m ledge at y = 0 (the legged robot climbs 0.3 m): 1.1 x 0.5 m, circumradius 0.6 m.
+  const RobotProfile legged = loadRobotProfile(kRobots / "legged.yaml");
+  const LayeredMesh map = compute(
+      test::heightFieldMesh(-4, 4, -3, 3, 0.1, [](double, double y) { return y > -1e-9 ? 0.4 : 0.0; }), legged);
+  std::size_t beside = 0, at = 0, lost_contact = 0;
+  for (std::size_t f : facesWhere(map, [](const Eigen::Vector3d& c) { return std::abs(c.x()) < 2; })) {
+    const double y = centroid(map, f).y();
+    const FaceLayers& l = map.layers[f];
+    if (std::abs(y) < 0.15) {
+      ++at;
+      EXPECT_EQ(l.face_class, FaceClass::kLethal) << "at y = " << y << ": every heading crosses the ledge";
+    } else if (std::abs(y) > 0.4 && std::abs(y) < 0.55) {
+      // Within the circumradius (a disc would reach the ledge), beyond half the width.
+      ++beside;
+      EXPECT_EQ(l.face_class, FaceClass::kFree) << "at y = " << y << ": fits along the ledge";
+      EXPECT_LT(l.step_m, 1e-6) << "the step of the heading that fits";
+      EXPECT_EQ(l.contact_best, 1.0f);
+      lost_contact += l.contact < 1.0f;  // turned across the ledge, the footprint reaches past it
+    }
+  }
+  EXPECT_GT(at, 0u);
+  EXPECT_GT(beside, 0u);
+  EXPECT_GT(lost_contact, 0u);
 }
 
 /// Brute-force geodesic distances: Dijkstra over faces sharing an edge, from the lethal faces.

@@ -10,8 +10,11 @@ namespace terramesh::traversability::internal {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
-/// Footprint samples per circumradius along each axis of the sample grid.
+/// Footprint samples per circumradius along each axis of the sample grid (at least).
 constexpr int kSamplesPerRadius = 5;
+/// Sample spacings across a rectangle's width (at least): the outermost samples fall within a
+/// quarter of the width of its sides (the car: 0.05 m inside).
+constexpr int kSamplesPerWidth = 4;
 /// Faces whose normal has a smaller upward component are not ground (walls, ceilings).
 constexpr double kMinGroundNormalZ = 1e-6;
 /// A face above the centroid closer than this is the face's own neighbourhood, not a ceiling.
@@ -27,8 +30,6 @@ constexpr char kLevelGround = 2;
 /// Slices of projected triangles are widened by this much: far more than rounding, far less than
 /// the footprint sample spacing.
 constexpr double kSliceToleranceM = 1e-6;
-/// StoredFace::heightAt finds nothing on faces whose projection's doubled area is smaller.
-constexpr double kMinProjectedDet = 1e-12;
 
 /// floor and ceil of a double known to lie well within the int range (std::floor is a library
 /// call without SSE4.1).
@@ -52,10 +53,12 @@ struct ProjectedEdges {
   };
   std::array<Edge, 3> edges;
 
-  explicit ProjectedEdges(const StoredFace& g) {
+  explicit ProjectedEdges(const SampleGeometry& g) {
+    const std::array<Eigen::Vector2d, 3> corners{Eigen::Vector2d(g.x0, g.y0), Eigen::Vector2d(g.x0 + g.bx, g.y0 + g.by),
+                                                 Eigen::Vector2d(g.x0 + g.cx, g.y0 + g.cy)};
     for (int e = 0; e < 3; ++e) {
-      const Eigen::Vector3d& p = g.p_L[e];
-      const Eigen::Vector3d& q = g.p_L[(e + 1) % 3];
+      const Eigen::Vector2d& p = corners[e];
+      const Eigen::Vector2d& q = corners[(e + 1) % 3];
       const double dx = q.x() - p.x();
       Edge& edge = edges[e];
       edge.x_min = std::min(p.x(), q.x());
@@ -95,15 +98,20 @@ double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
 LayerComputer::LayerComputer(const RobotProfile& profile)
     : profile_(profile),
       radius_m_(profile.footprintCircumradiusM()),
+      k_(kSamplesPerRadius),
       band_down_m_(std::max(profile.min_clearance_m, 2.0 * profile.max_step_m)),
       clearance_search_m_(std::max(3.0 * profile.min_clearance_m, 5.0)),
       cos_max_slope_(std::cos(profile.max_slope_deg * M_PI / 180.0)) {
-  const double spacing = radius_m_ / kSamplesPerRadius;
-  for (int i = -kSamplesPerRadius; i <= kSamplesPerRadius; ++i) {
-    for (int j = -kSamplesPerRadius; j <= kSamplesPerRadius; ++j) {
-      const bool inside = i * i + j * j <= kSamplesPerRadius * kSamplesPerRadius;
+  if (profile.footprint == FootprintShape::kRectangle) {
+    const double narrow = std::min(profile.footprint_length_m, profile.footprint_width_m);
+    k_ = std::max(k_, ceilInt(kSamplesPerWidth * radius_m_ / narrow - 1e-9));
+  }
+  spacing_m_ = radius_m_ / k_;
+  for (int i = -k_; i <= k_; ++i) {
+    for (int j = -k_; j <= k_; ++j) {
+      const bool inside = i * i + j * j <= k_ * k_;
       offset_index_.push_back(inside ? static_cast<int>(offsets_.size()) : -1);
-      if (inside) offsets_.emplace_back(i * spacing, j * spacing);
+      if (inside) offsets_.emplace_back(i * spacing_m_, j * spacing_m_);
     }
   }
   const double eps = 1e-9 * radius_m_;
@@ -114,7 +122,8 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
     return;
   }
   for (int k = 0; k < profile.contact_headings; ++k) {
-    const double theta = 2.0 * M_PI * k / profile.contact_headings;
+    // Over half a turn: the rectangle turned by 180 degrees covers the same samples.
+    const double theta = M_PI * k / profile.contact_headings;
     const double c = std::cos(theta), s = std::sin(theta);
     std::vector<int> inside;
     for (std::size_t i = 0; i < offsets_.size(); ++i) {
@@ -131,10 +140,10 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
 }
 
 void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c) const {
-  constexpr int K = kSamplesPerRadius;
+  const int K = k_;
   z_.assign(offsets_.size(), std::numeric_limits<double>::quiet_NaN());
   level_.assign(offsets_.size(), kNoGround);
-  const double spacing = radius_m_ / K;
+  const double spacing = spacing_m_;
   // Grid indices that may fall in [lo, hi] (one node of margin for rounding; NaN: all).
   const auto first = [&](double lo, double centre) {
     const double t = (lo - centre) / spacing;
@@ -160,9 +169,9 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
   // Candidate by candidate (in the order of candidates_), each over the samples in its box: per
   // sample, the same candidates in the same order as a sample-by-sample search, so the same result.
   for (Slot t : candidates_) {
-    const StoredFace& g = store.face(t);
-    if (std::abs(g.projected_det) < kMinProjectedDet) continue;  // heightAt finds nothing on it
-    const char level = g.normal_L.z() >= cos_max_slope_ ? kLevelGround : kSteepGround;
+    const SampleGeometry& g = store.geometry(t);
+    if (!g.sampleable) continue;  // heightAt finds nothing on it
+    const char level = g.normal_z >= cos_max_slope_ ? kLevelGround : kSteepGround;
     const int i0 = first(g.box_min.x(), c.x()), i1 = last(g.box_max.x(), c.x());
     const int j0 = first(g.box_min.y(), c.y()), j1 = last(g.box_max.y(), c.y());
     const ProjectedEdges edges(g);
@@ -193,6 +202,76 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
   }
 }
 
+LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>& samples, const Eigen::Vector3d& c,
+                                                        double ref_a, double ref_b, bool steep) const {
+  const std::vector<double>& z = z_;
+  const std::vector<double>& ref = ref_;
+  // Least-squares planes z - c.z = a x + b y + d over the centroid and the found samples: all of
+  // them, and those of the face's level (near the face's plane: a fit over both levels of a step
+  // would tilt towards the upper one and hide part of the jump). Both in one pass.
+  const double level_band = std::max(profile_.contact_tolerance_m, 0.5 * profile_.max_step_m);
+  Eigen::Matrix3d all_matrix = Eigen::Matrix3d::Zero(), level_matrix = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d all_rhs = Eigen::Vector3d::Zero(), level_rhs = Eigen::Vector3d::Zero();
+  all_matrix(2, 2) = 1.0;  // the centroid itself: (0, 0, 0)
+  level_matrix(2, 2) = 1.0;
+  int all_used = 1, level_used = 1;
+  for (int i : samples) {
+    if (std::isnan(z[i])) continue;
+    const Eigen::Vector3d row(offsets_[i].x(), offsets_[i].y(), 1.0);
+    const Eigen::Matrix3d outer = row * row.transpose();
+    const Eigen::Vector3d rhs = row * (z[i] - c.z());
+    all_matrix += outer;
+    all_rhs += rhs;
+    ++all_used;
+    if (!steep && std::abs(z[i] - ref[i]) <= level_band) {
+      level_matrix += outer;
+      level_rhs += rhs;
+      ++level_used;
+    }
+  }
+  // The plane, or nullopt if the points do not span one.
+  const auto solve = [](const Eigen::Matrix3d& m, const Eigen::Vector3d& rhs, int used) -> std::optional<Eigen::Vector3d> {
+    if (used < 3) return std::nullopt;
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(m);
+    if (lu.rank() < 3) return std::nullopt;
+    return Eigen::Vector3d(lu.solve(rhs));
+  };
+  HeadingResult out;
+  const Eigen::Vector3d all_plane = solve(all_matrix, all_rhs, all_used).value_or(Eigen::Vector3d(ref_a, ref_b, 0.0));
+  // The step from the level's plane (degenerate levels: the plane over all samples). Steep faces
+  // (the risers of steps) measure the height range around them.
+  const Eigen::Vector3d level_plane =
+      steep ? Eigen::Vector3d::Zero() : solve(level_matrix, level_rhs, level_used).value_or(all_plane);
+  // Residuals of the centroid and every found sample: RMS against the plane over all samples,
+  // range against the level's plane; and the supported samples.
+  double sum_sq = all_plane.z() * all_plane.z(), step_min = -level_plane.z(), step_max = -level_plane.z();
+  int n = 1, supported = 0;
+  const double reach = profile_.max_step_m + profile_.contact_tolerance_m;
+  for (int i : samples) {
+    if (std::isnan(z[i])) continue;
+    const Eigen::Vector2d& o = offsets_[i];
+    const double dz = z[i] - c.z();
+    const double e_all = dz - (all_plane.x() * o.x() + all_plane.y() * o.y() + all_plane.z());
+    const double e_level = dz - (level_plane.x() * o.x() + level_plane.y() * o.y() + level_plane.z());
+    sum_sq += e_all * e_all;
+    ++n;
+    step_min = std::min(step_min, e_level);
+    step_max = std::max(step_max, e_level);
+    if (std::abs(z[i] - ref[i]) <= reach) ++supported;
+  }
+  out.roughness_m = std::sqrt(sum_sq / n);
+  out.step_m = step_max - step_min;
+  out.contact = samples.empty() ? 0.0 : static_cast<double>(supported) / static_cast<double>(samples.size());
+  const RobotProfile& p = profile_;
+  out.fits = out.step_m <= p.max_step_m && out.roughness_m <= p.max_roughness_m && out.contact >= p.min_support;
+  const auto ratio = [](double value, double limit) {
+    return limit > 0 ? value / limit : (value > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+  };
+  out.badness = std::max({ratio(out.step_m, p.max_step_m), ratio(out.roughness_m, p.max_roughness_m),
+                          ratio(1.0 - out.contact, 1.0 - p.min_support)});
+  return out;
+}
+
 void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   StoredFace& f = store.face(s);
   FaceLayers& layers = f.layers;
@@ -211,17 +290,19 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   const Eigen::Vector2d hi = c.head<2>() + Eigen::Vector2d(radius_m_, radius_m_);
   std::vector<Slot>& candidates = candidates_;
   candidates.clear();
+  // Only faces reaching the samples' height band can be ground: the reference plane stays within
+  // |grad| R of the centroid over the footprint (widened far beyond rounding).
+  const double ref_spread = std::hypot(ref_a, ref_b) * radius_m_ + 1e-6 * (1.0 + radius_m_);
+  const double z_lo = c.z() - ref_spread - band_down_m_, z_hi = c.z() + ref_spread + profile_.min_clearance_m;
   store.forEachInBox(lo, hi, [&](Slot t) {
     const FaceBounds& g = store.bounds(t);
-    if (!g.alive || g.normal_z <= kMinGroundNormalZ) return;
+    if (!g.alive || g.normal_z <= kMinGroundNormalZ || g.max_z < z_lo || g.min_z > z_hi) return;
     if ((g.box_min.array() > hi.array()).any() || (g.box_max.array() < lo.array()).any()) return;
     candidates.push_back(t);
   });
   ref_.resize(count);
   for (std::size_t i = 0; i < count; ++i) ref_[i] = c.z() + ref_a * offsets_[i].x() + ref_b * offsets_[i].y();
   sampleGround(store, c);
-  const std::vector<double>& z = z_;
-  const std::vector<double>& ref = ref_;
   int found_samples = 0, level_samples = 0;
   for (std::size_t i = 0; i < count; ++i) {
     if (level_[i] == kNoGround) continue;
@@ -229,69 +310,24 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
     level_samples += level_[i] == kLevelGround ? 1 : 0;
   }
   f.level_fraction = found_samples ? static_cast<float>(level_samples) / static_cast<float>(found_samples) : 0.0f;
-  // Least-squares plane z - c.z = a x + b y + d over the centroid and the found samples that
-  // `use` accepts; nullopt if they do not span a plane.
-  const auto fit = [&](auto&& use) -> std::optional<Eigen::Vector3d> {
-    Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    normal_matrix(2, 2) = 1.0;  // the centroid itself: (0, 0, 0)
-    int used = 1;
-    for (std::size_t i = 0; i < count; ++i) {
-      if (std::isnan(z[i]) || !use(i)) continue;
-      const Eigen::Vector3d row(offsets_[i].x(), offsets_[i].y(), 1.0);
-      normal_matrix += row * row.transpose();
-      rhs += row * (z[i] - c.z());
-      ++used;
-    }
-    if (used < 3) return std::nullopt;
-    const Eigen::FullPivLU<Eigen::Matrix3d> lu(normal_matrix);
-    if (lu.rank() < 3) return std::nullopt;
-    return Eigen::Vector3d(lu.solve(rhs));
-  };
-  // Residual statistics of the centroid and every found sample against a plane.
-  struct Residuals {
-    double min, max, sum_sq;
-    int n;
-  };
-  const auto residuals = [&](const Eigen::Vector3d& plane) {
-    Residuals r{-plane.z(), -plane.z(), plane.z() * plane.z(), 1};
-    for (std::size_t i = 0; i < count; ++i) {
-      if (std::isnan(z[i])) continue;
-      const Eigen::Vector2d& o = offsets_[i];
-      const double e = z[i] - c.z() - (plane.x() * o.x() + plane.y() * o.y() + plane.z());
-      r.min = std::min(r.min, e);
-      r.max = std::max(r.max, e);
-      r.sum_sq += e * e;
-      ++r.n;
-    }
-    return r;
-  };
-  const Eigen::Vector3d all_plane = fit([](std::size_t) { return true; }).value_or(Eigen::Vector3d(ref_a, ref_b, 0.0));
-  const Residuals all = residuals(all_plane);
-  layers.roughness_m = static_cast<float>(std::sqrt(all.sum_sq / all.n));
-  // The step is measured from the plane of the face's own level (the samples near the face's
-  // plane): a fit over both levels of a step would tilt towards the upper one and hide part of
-  // the jump; degenerate levels use the plane over all samples. Steep faces (the risers of
-  // steps) measure the height range around them.
-  const double level_band = std::max(profile_.contact_tolerance_m, 0.5 * profile_.max_step_m);
-  const std::optional<Eigen::Vector3d> level_plane =
-      steep ? std::nullopt : fit([&](std::size_t i) { return std::abs(z[i] - ref[i]) <= level_band; });
-  const Residuals level = residuals(steep ? Eigen::Vector3d::Zero() : level_plane.value_or(all_plane));
-  layers.step_m = static_cast<float>(level.max - level.min);
-
-  const double reach = profile_.max_step_m + profile_.contact_tolerance_m;
-  double worst = 1.0, best = 0.0;
+  // Each heading's footprint is judged on its own samples; the face is reported at the best one.
+  HeadingResult best;
+  double worst_contact = 1.0, best_contact = 0.0;
+  bool first = true;
   for (const std::vector<int>& samples : heading_samples_) {
-    int supported = 0;
-    for (int i : samples) {
-      if (!std::isnan(z[i]) && std::abs(z[i] - ref[i]) <= reach) ++supported;
-    }
-    const double fraction = samples.empty() ? 0.0 : static_cast<double>(supported) / samples.size();
-    worst = std::min(worst, fraction);
-    best = std::max(best, fraction);
+    const HeadingResult h = judgeHeading(samples, c, ref_a, ref_b, steep);
+    worst_contact = std::min(worst_contact, h.contact);
+    best_contact = std::max(best_contact, h.contact);
+    // The best heading: one that fits, then the smallest badness, then the first.
+    if (first || (h.fits && !best.fits) || (h.fits == best.fits && h.badness < best.badness)) best = h;
+    first = false;
   }
-  layers.contact = static_cast<float>(worst);
-  layers.contact_best = static_cast<float>(best);
+  f.footprint_fits = best.fits;
+  f.heading_contact = static_cast<float>(best.contact);
+  layers.step_m = static_cast<float>(best.step_m);
+  layers.roughness_m = static_cast<float>(best.roughness_m);
+  layers.contact = static_cast<float>(worst_contact);
+  layers.contact_best = static_cast<float>(best_contact);
 
   double above = std::numeric_limits<double>::infinity();
   bool above_steiner = false;
@@ -301,10 +337,12 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
     // cannot be above it.
     const FaceBounds& b = store.bounds(t);
     if (!b.alive || c.x() < b.box_min.x() - kSliceToleranceM || c.x() > b.box_max.x() + kSliceToleranceM ||
-        c.y() < b.box_min.y() - kSliceToleranceM || c.y() > b.box_max.y() + kSliceToleranceM) {
+        c.y() < b.box_min.y() - kSliceToleranceM || c.y() > b.box_max.y() + kSliceToleranceM ||
+        b.max_z < c.z() + kMinClearanceGapM || b.min_z - c.z() > clearance_search_m_) {
       return;
     }
-    const StoredFace& g = store.face(t);
+    const SampleGeometry& g = store.geometry(t);
+    if (!g.sampleable) return;
     const std::optional<double> h = g.heightAt(c.x(), c.y());
     if (!h || *h < c.z() + kMinClearanceGapM || *h - c.z() > clearance_search_m_) return;
     if (*h < above || (*h == above && g.steiner)) {
@@ -329,8 +367,7 @@ bool LayerComputer::lethal(const StoredFace& face) const {
   const bool riser = l.slope_deg <= kMaxRiserSlopeDeg && face.max_z - face.min_z <= profile_.max_step_m &&
                      face.level_fraction >= 0.5f;
   const bool too_steep = !(l.slope_deg <= profile_.max_slope_deg) && !riser;
-  return too_steep || l.step_m > profile_.max_step_m || l.roughness_m > profile_.max_roughness_m ||
-         l.contact < profile_.min_support || l.clearance_m < profile_.min_clearance_m;
+  return too_steep || !face.footprint_fits || l.clearance_m < profile_.min_clearance_m;
 }
 
 double LayerComputer::inflationTerm(double distance_m) const {
@@ -355,8 +392,10 @@ void LayerComputer::classify(StoredFace& face) const {
   const double slope = clamp01(l.slope_deg / p.max_slope_deg);
   const double step = p.max_step_m > 0 ? clamp01(l.step_m / p.max_step_m) : (l.step_m > 0 ? 1.0 : 0.0);
   const double rough = clamp01(l.roughness_m / p.max_roughness_m);
+  // Step, roughness and this contact are the best heading's: the robot drives there turned so.
+  const double fit_contact = face.heading_contact;
   const double contact =
-      p.min_support < 1 ? clamp01((1.0 - l.contact) / (1.0 - p.min_support)) : (l.contact < 1 ? 1.0 : 0.0);
+      p.min_support < 1 ? clamp01((1.0 - fit_contact) / (1.0 - p.min_support)) : (fit_contact < 1 ? 1.0 : 0.0);
   const double inflation = inflationTerm(l.lethal_distance_m);
   const LayerWeights& w = p.weights;
   const double mean = (w.slope * slope + w.step * step + w.roughness * rough + w.contact * contact +

@@ -12,19 +12,26 @@ namespace terramesh::traversability::internal {
 
 /// Computes the local layers of faces of a SurfaceStore for one robot. Not thread-safe.
 ///
-/// Footprint model (docs/traversability.md): samples on a square grid (spacing R/5, R the
-/// footprint circumradius) within the disc of radius R around the face centroid, in the
-/// horizontal plane. At each sample a vertical ray finds the upward-facing surface closest to the
-/// face's plane (a horizontal plane through the centroid for faces steeper than max_slope), within
+/// Footprint model (docs/traversability.md): samples on a square grid (spacing R/K, R the
+/// footprint circumradius, K >= 5 and at least 4 spacings across a rectangle's width) within the
+/// disc of radius R around the face centroid, in the horizontal plane. At each sample a vertical
+/// ray finds the upward-facing surface closest to the face's plane (a horizontal plane through
+/// the centroid for faces steeper than max_slope), within
 /// [plane - max(min_clearance, 2 max_step), plane + min_clearance]: higher geometry is overhead,
 /// lower is a drop.
+///
+/// The footprint is the disc (one heading), or the rectangle turned to each of contact_headings
+/// headings over half a turn (its samples: the grid's samples inside it). Per heading:
 /// - step: max - min of the residuals of the centroid and the found samples from the
 ///   least-squares plane of the face's level (the samples near the face's plane; a jump that
 ///   plane cannot explain, independent of the slope); for steep faces, max - min of the heights;
-/// - roughness: RMS of those residuals;
-/// - contact: per heading, the fraction of the samples inside the (rotated) footprint whose
-///   surface lies within max_step_m + contact_tolerance_m of the face's plane (a wheel or foot
-///   can reach it: a curb the robot may climb still supports it, a ledge or hole does not).
+/// - roughness: RMS of the residuals from the plane fitted to all found samples;
+/// - contact: the fraction of the samples whose surface lies within max_step_m +
+///   contact_tolerance_m of the face's plane (a wheel or foot can reach it: a curb the robot may
+///   climb still supports it, a ledge or hole does not).
+/// The footprint fits at a heading if all three are within the robot's limits; step and
+/// roughness are reported at the best heading (one that fits, else the closest to fitting),
+/// contact at the worst and the best.
 /// - clearance: vertical ray up from the centroid to the first face whose projection contains it.
 class LayerComputer {
  public:
@@ -37,7 +44,8 @@ class LayerComputer {
   /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`.
   void computeLocal(SurfaceStore& store, Slot s) const;
 
-  /// Whether known face layers make a face lethal (see docs for the step-riser rule).
+  /// Whether known face layers make a face lethal: too steep (see docs for the step-riser rule),
+  /// too low a clearance, or the footprint fits at no heading.
   bool lethal(const StoredFace& face) const;
   /// Sets face_class and cost from the local layers and `lethal_distance_m`.
   void classify(StoredFace& face) const;
@@ -45,12 +53,26 @@ class LayerComputer {
   double inflationTerm(double distance_m) const;
 
  private:
+  /// The footprint layers at one heading.
+  struct HeadingResult {
+    double step_m = 0, roughness_m = 0, contact = 0;
+    bool fits = false;    ///< step, roughness and contact within the robot's limits
+    double badness = 0;   ///< largest layer / limit ratio (smaller is better)
+  };
+
   /// Finds, for every footprint sample of the face with centroid c, the ground closest to the
   /// sample's reference height (z_ and level_ scratch; NaN where none).
   void sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c) const;
+  /// Judges the footprint made of `samples` (indices in offsets_) from the sampled ground; the
+  /// face's reference plane is z = c.z + ref_a x + ref_b y; `steep`: the face is steeper than
+  /// max_slope.
+  HeadingResult judgeHeading(const std::vector<int>& samples, const Eigen::Vector3d& c, double ref_a, double ref_b,
+                             bool steep) const;
 
   RobotProfile profile_;
   double radius_m_;
+  int k_;  ///< samples per circumradius along each grid axis
+  double spacing_m_ = 0;
   std::vector<Eigen::Vector2d> offsets_;
   /// Index in offsets_ of grid node (i, j), i and j in [-K, K], at (i + K) * (2K + 1) + j + K; -1
   /// outside the disc.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <Eigen/Geometry>
 
 namespace terramesh::traversability::internal {
@@ -26,6 +27,7 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
     s = static_cast<Slot>(faces_.size());
     faces_.emplace_back();
     bounds_.emplace_back();
+    geometry_.emplace_back();
   }
   StoredFace& f = faces_[s];
   f = StoredFace{};
@@ -48,7 +50,36 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   f.steiner = input.touches_steiner;
   for (const auto& v : input.vertices) f.steiner = f.steiner || v.steiner;
   f.alive = true;
-  bounds_[s] = FaceBounds{f.box_min, f.box_max, f.normal_L.z(), true};
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  bounds_[s] = FaceBounds{f.box_min, f.box_max, f.normal_L.z(), true,
+                          std::nextafter(static_cast<float>(f.min_z), -kInf),
+                          std::nextafter(static_cast<float>(f.max_z), kInf)};
+  SampleGeometry& g = geometry_[s];
+  g = SampleGeometry{};
+  g.box_min = f.box_min;
+  g.box_max = f.box_max;
+  g.x0 = f.p_L[0].x();
+  g.y0 = f.p_L[0].y();
+  g.bx = f.p_L[1].x() - g.x0;
+  g.by = f.p_L[1].y() - g.y0;
+  g.cx = f.p_L[2].x() - g.x0;
+  g.cy = f.p_L[2].y() - g.y0;
+  g.z0 = f.p_L[0].z();
+  g.z1 = f.p_L[1].z();
+  g.z2 = f.p_L[2].z();
+  g.min_z = f.min_z;
+  g.max_z = f.max_z;
+  g.normal_z = f.normal_L.z();
+  g.steiner = f.steiner;
+  // heightAt: u = ((b - q) x (c - q)) / det, v = ((c - q) x (a - q)) / det, relative to a.
+  const double det = g.bx * g.cy - g.cx * g.by;
+  g.sampleable = std::abs(det) >= 1e-12 && std::abs(f.projected_det) >= 1e-12;
+  if (g.sampleable) {
+    g.ux = (g.by - g.cy) / det;
+    g.uy = (g.cx - g.bx) / det;
+    g.vx = g.cy / det;
+    g.vy = -g.cx / det;
+  }
   by_key_[f.key] = s;
   link(s);
   return s;
@@ -63,6 +94,7 @@ std::optional<StoredFace> SurfaceStore::remove(const mesher::FaceKey& key) {
   StoredFace copy = faces_[s];
   faces_[s].alive = false;
   bounds_[s].alive = false;
+  geometry_[s].sampleable = false;
   free_slots_.push_back(s);
   return copy;
 }
@@ -70,6 +102,7 @@ std::optional<StoredFace> SurfaceStore::remove(const mesher::FaceKey& key) {
 void SurfaceStore::clear() {
   faces_.clear();
   bounds_.clear();
+  geometry_.clear();
   free_slots_.clear();
   by_key_.clear();
   by_vertex_.clear();

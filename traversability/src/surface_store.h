@@ -37,6 +37,11 @@ struct StoredFace {
   /// Fraction of the footprint samples that found ground on faces no steeper than max_slope
   /// (set with the local layers; tells a step riser from a steep ramp).
   float level_fraction = 0;
+  /// Set with the local layers: whether the footprint fits at some heading (step, roughness and
+  /// contact within the robot's limits there; a disc has one heading), and the contact of the
+  /// heading the layers report (the best one), which the cost uses.
+  bool footprint_fits = true;
+  float heading_contact = 1;
 
   /// Height of the face's plane at horizontal position (x, y), if (x, y) lies in the face's
   /// horizontal projection and the face is not vertical.
@@ -52,6 +57,35 @@ struct FaceBounds {
   Eigen::Vector2d box_max = Eigen::Vector2d::Zero();
   double normal_z = 1;
   bool alive = false;
+  float min_z = 0, max_z = 0;  ///< the face's height range, rounded outwards
+};
+
+/// What footprint sampling reads of a face, packed densely (a copy): its horizontal projection
+/// relative to its first vertex, and the barycentric coordinates u (of vertex 0) and v (of
+/// vertex 1) as affine functions of (x - x0, y - y0). Filled for faces that heightAt can sample.
+struct SampleGeometry {
+  Eigen::Vector2d box_min = Eigen::Vector2d::Zero();
+  Eigen::Vector2d box_max = Eigen::Vector2d::Zero();
+  double x0 = 0, y0 = 0;  ///< vertex 0's horizontal position
+  double bx = 0, by = 0;  ///< vertex 1 - vertex 0
+  double cx = 0, cy = 0;  ///< vertex 2 - vertex 0
+  double ux = 0, uy = 0, vx = 0, vy = 0;  ///< u = 1 + ux dx + uy dy, v = vx dx + vy dy
+  double z0 = 0, z1 = 0, z2 = 0;          ///< vertex heights
+  double min_z = 0, max_z = 0;
+  double normal_z = 1;
+  bool sampleable = false;  ///< the projection is not degenerate (heightAt can find it)
+  bool steiner = false;
+
+  /// Height of the face's plane at (x, y) if (x, y) lies in its projection (heightAt's test).
+  std::optional<double> heightAt(double x, double y) const {
+    const double dx = x - x0, dy = y - y0;
+    const double u = 1.0 + (ux * dx + uy * dy);
+    const double v = vx * dx + vy * dy;
+    const double w = 1.0 - u - v;
+    constexpr double kEps = -1e-12;
+    if (u < kEps || v < kEps || w < kEps) return std::nullopt;
+    return u * z0 + v * z1 + w * z2;
+  }
 };
 
 /// Faces by key, vertex and horizontal grid cell. Each face is registered in every grid cell its
@@ -73,6 +107,8 @@ class SurfaceStore {
   StoredFace& face(Slot s) { return faces_[s]; }
   /// The face's box, normal z and liveness (equal to those of face(s)).
   const FaceBounds& bounds(Slot s) const { return bounds_[s]; }
+  /// The face's sampling geometry (equal to that of face(s)).
+  const SampleGeometry& geometry(Slot s) const { return geometry_[s]; }
   /// Number of slots (alive or not).
   std::size_t slotCount() const { return faces_.size(); }
   std::size_t size() const { return by_key_.size(); }
@@ -99,6 +135,7 @@ class SurfaceStore {
   double cell_m_;
   std::vector<StoredFace> faces_;
   std::vector<FaceBounds> bounds_;
+  std::vector<SampleGeometry> geometry_;
   std::vector<Slot> free_slots_;
   std::unordered_map<mesher::FaceKey, Slot> by_key_;
   std::unordered_map<mesher::VertexKey, std::vector<Slot>> by_vertex_;

@@ -21,6 +21,15 @@ struct WalkabilityConfig {
   /// A face whose normal is more than this from "up" is never walkable, whatever its class says
   /// (guards against walls or ceilings classed free by a wrong up vector).
   double max_face_tilt_deg = 60.0;
+  /// Nav2's `allow_unknown`: unknown faces (touching a Steiner vertex, or seen by fewer than the
+  /// robot's min_rays) are walkable too, under the same tilt and lethal-distance rules as free
+  /// faces, at cost `unknown_cost`. Lethal faces never are. Off by default: on our maps such
+  /// paths leave the measured surface (docs/planning.md, "Crossing unknown faces").
+  bool allow_unknown = false;
+  /// The cost in [0, 1] of an unknown face when allow_unknown: its per-metre multiplier is
+  /// 1 + cost_weight * unknown_cost. 1 = as dear as the dearest free face (Nav2's NavFn gives an
+  /// unknown cell COST_OBS - 1, at least the cost of every free cell).
+  double unknown_cost = 1.0;
   /// @throw std::invalid_argument listing every out-of-range field.
   void validate() const;
 };
@@ -89,6 +98,13 @@ class FaceGraph {
   bool walkable(std::uint32_t f) const { return walkable_[f] != 0; }
   /// Per-metre cost multiplier 1 + w * cost of a walkable face.
   double costMultiplier(std::uint32_t f) const { return multipliers_[f]; }
+  /// The cost in [0, 1] the planner uses for a walkable face: its layer cost, or
+  /// WalkabilityConfig::unknown_cost for an unknown face (allow_unknown); NaN if not walkable.
+  double plannedCost(std::uint32_t f) const;
+  /// Whether a walkable face is walkable only because unknown faces are allowed.
+  bool walkableUnknown(std::uint32_t f) const {
+    return walkable_[f] != 0 && layers_[f].face_class == traversability::FaceClass::kUnknown;
+  }
   /// Walkable component id (faces joined across shared edges), or kNoFace if not walkable.
   std::uint32_t component(std::uint32_t f) const { return components_[f]; }
   std::size_t componentCount() const { return component_areas_.size(); }

@@ -16,6 +16,12 @@ struct PlannerConfig {
   std::string planner = "rrtstar";
   /// Wall-clock budget of the planner (the optimizing planners use all of it).
   double time_budget_s = 1.0;
+  /// When > time_budget_s: a planner without an exact path after time_budget_s keeps searching
+  /// (it resumes its tree or roadmap, in rounds of time_budget_s) until it has one or this much
+  /// wall-clock time has passed in all. Whether a path is found then depends on the machine's
+  /// speed and load only through how long it takes (tests use it; planOnSurface and planOnGrid).
+  /// 0 or <= time_budget_s: no extension.
+  double time_cap_s = 0.0;
   /// Seed of the surface samplers (their ompl::RNG local seeds). The planners' own generators
   /// draw from OMPL's process-wide seed: call seedOmpl once at start-up for reproducible runs.
   std::uint32_t seed = 1;
@@ -54,7 +60,8 @@ enum class PlanStatus {
 const char* toString(PlanStatus status);
 
 /// One state of an output path: on the surface, with the heading of travel (radians about up,
-/// see docs/planning.md) and the traversability cost of its face.
+/// see docs/planning.md) and the cost the planner used for its face (FaceGraph::plannedCost:
+/// the traversability cost, or unknown_cost on an unknown face).
 struct PathState {
   SurfaceLocation location;
   double yaw_rad = 0;
@@ -75,6 +82,8 @@ struct PlanResult {
   std::vector<PathState> waypoints;
   double length_m = 0;
   double cost = 0;
+  /// The part of length_m over unknown faces (only with WalkabilityConfig::allow_unknown).
+  double unknown_length_m = 0;
   double planning_time_s = 0;
   double simplify_time_s = 0;
   /// Cost of the first solution found (NaN if none) and the time it took.

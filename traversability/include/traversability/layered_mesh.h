@@ -24,8 +24,10 @@ enum class FaceClass : std::uint8_t {
 /// above within the search height, which is reported as +infinity instead).
 struct FaceLayers {
   float slope_deg = 0;     ///< angle between the face normal and "up"
-  float step_m = 0;        ///< largest height jump within the footprint centred on the face
-  float roughness_m = 0;   ///< RMS deviation from the plane fitted over the footprint
+  /// Largest height jump within the footprint centred on the face (a rectangle: at its best
+  /// heading, one where it fits if any; see docs/traversability.md "Headings").
+  float step_m = 0;
+  float roughness_m = 0;   ///< RMS deviation from the plane fitted over the footprint (best heading)
   float contact = 1;       ///< supported fraction of the footprint, worst heading, [0, 1]
   float contact_best = 1;  ///< ... best heading
   /// Free height above the face along "up" against measured faces; +inf if none above within

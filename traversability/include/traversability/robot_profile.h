@@ -43,9 +43,11 @@ struct RobotProfile {
   /// A footprint sample point is supported if the surface is within this distance of the
   /// footprint plane there.
   double contact_tolerance_m = 0.05;
-  /// Smallest supported fraction of the footprint (worst heading) the robot needs; less is lethal.
+  /// Smallest supported fraction of the footprint the robot needs at a heading; a face where no
+  /// heading has it is lethal.
   double min_support = 0.7;
-  /// Headings at which contact is evaluated (evenly spaced over 360 degrees).
+  /// Headings at which a rectangular footprint is judged (evenly spaced over 180 degrees: a
+  /// rectangle turned by 180 degrees is the same); a disc has one.
   int contact_headings = 8;
 
   /// Costmap-style inflation (Nav2 inflation layer): within `inscribed_radius_m` of a lethal face
