@@ -21,6 +21,15 @@
 namespace terramesh::planning {
 namespace {
 
+/// The same walk travelled the other way. A walk's point i carries the face that its piece i (to
+/// point i + 1) lies on; going back, piece k runs over the face the forward walk labelled on the
+/// point after it. The end keeps the face of the forward walk's start.
+SurfaceWalk reversed(SurfaceWalk walk) {
+  std::reverse(walk.points.begin(), walk.points.end());
+  for (std::size_t k = 0; k + 1 < walk.points.size(); ++k) walk.points[k].face = walk.points[k + 1].face;
+  return walk;
+}
+
 using Clock = std::chrono::steady_clock;
 using internal::SurfaceStateSpace;
 
@@ -192,7 +201,12 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
       continue;
     }
     const auto* previous = path.getState(i - 1)->as<SurfaceStateSpace::StateType>();
-    const SurfaceWalk walk = graph.walk(previous->location(), state->location(), true, config.max_detour);
+    SurfaceWalk walk = graph.walk(previous->location(), state->location(), true, config.max_detour);
+    if (!walk.reached()) {
+      // The surface walk is not symmetric, and PRM-family roadmaps are undirected: OMPL may have
+      // validated this edge from its other end. Walk it that way and turn the walk round.
+      walk = reversed(graph.walk(state->location(), previous->location(), true, config.max_detour));
+    }
     if (!walk.reached()) {
       // Cannot happen for a path OMPL validated with the same walk; refuse rather than report it.
       result.status = PlanStatus::kNotFound;
