@@ -88,14 +88,7 @@ void Grower::edgePass(UpdateStats& stats) {
           const CellHandle h = c;
           if (!h->info().outside() && !state_.tri.is_infinite(h) && state_.weights.isFree(h)) ring.push_back(h);
         } while (++c != start);
-        if (ring.size() < 2 || !state_.outside.canAddAll(ring)) continue;
-        for (const CellHandle& h : ring) {
-          state_.outside.add(h);
-          ++stats.cells_grown;
-          ++stats.edge_pass_cells;
-        }
-        for (const CellHandle& h : ring) pushFreeNeighbours(h);
-        drainQueue(stats);
+        if (!tryAddSet(ring, stats)) continue;
         refused.insert(refused.end(), final_refused_.begin(), final_refused_.end());
         final_refused_.clear();
       }

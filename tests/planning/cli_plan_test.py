@@ -16,6 +16,12 @@ def run(*args):
     return subprocess.run([str(a) for a in args], capture_output=True, text=True, timeout=600)
 
 
+def read_pairs(out):
+    """The rows of OUT/pairs.csv that `terramesh plan --random-pairs` wrote."""
+    with open(f"{out}/pairs.csv") as f:
+        return list(csv.DictReader(f))
+
+
 class PlanStreetTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -37,8 +43,7 @@ class PlanStreetTest(unittest.TestCase):
         out = f"{self.dir}/pairs"
         result = run(BIN, "plan", f"{self.dir}/map", "--random-pairs", "3", "--time-budget-s", "0.5", *CAP, "-o", out, "--quiet")
         self.assertEqual(result.returncode, 0, result.stderr)
-        with open(f"{out}/pairs.csv") as f:
-            rows = list(csv.DictReader(f))
+        rows = read_pairs(out)
         self.assertEqual(len(rows), 3)
         for row in rows:
             self.assertEqual(row["status"], "solved")
@@ -78,8 +83,7 @@ class PlanStreetTest(unittest.TestCase):
         result = run(BIN, "plan", f"{self.dir}/map", "--random-pairs", "2", "--allow-unknown", "--time-budget-s", "0.3",
                      *CAP, "-o", out, "--quiet")
         self.assertEqual(result.returncode, 0, result.stderr)
-        with open(f"{out}/pairs.csv") as f:
-            rows = list(csv.DictReader(f))
+        rows = read_pairs(out)
         self.assertEqual(len(rows), 2)
         for row in rows:
             self.assertEqual(row["status"], "solved")
