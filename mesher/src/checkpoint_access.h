@@ -12,6 +12,8 @@
 
 namespace terramesh::mesher::internal {
 
+class Grower;
+
 class CheckpointAccess {
  public:
   /// Appends the whole state of `mesher` (not its config) to `out`.
@@ -46,6 +48,12 @@ class CheckpointAccess {
   static void readRegistry(PointRegistry& registry, ByteReader& in, const Handles& handles);
   static void writeSurfaceLog(const SurfaceLog& log, ByteWriter& out);
   static void readSurfaceLog(SurfaceLog& log, ByteReader& in);
+  /// The ball pass's memory of refused balls (Grower::ball_refusals_), sorted by cell uid.
+  static void writeBallRefusals(const Grower& grower, ByteWriter& out);
+  /// @throw terramesh::InputError (from `in`) for a uid not below `state.next_uid`, uids not
+  ///        strictly increasing, more entries than the grower keeps, or entries with the pass
+  ///        switched off.
+  static void readBallRefusals(Grower& grower, ByteReader& in, const MapState& state);
 };
 
 }  // namespace terramesh::mesher::internal

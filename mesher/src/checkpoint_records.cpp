@@ -1,7 +1,11 @@
-// Checkpoint of the rays (paths and per-cell ray lists), the point and keyframe registry and the
-// surface history. Recycled slots and free lists are saved as they are, so ids are handed out in
-// the same order after a resume.
+// Checkpoint of the rays (paths and per-cell ray lists), the point and keyframe registry, the
+// surface history and the ball pass's memory of refused balls. Recycled slots and free lists are
+// saved as they are, so ids are handed out in the same order after a resume.
+#include <algorithm>
+#include <utility>
+
 #include "checkpoint_access.h"
+#include "manifold_growing.h"
 
 namespace terramesh::mesher::internal {
 namespace {
@@ -236,6 +240,45 @@ void CheckpointAccess::readSurfaceLog(SurfaceLog& log, ByteReader& in) {
     record.touched = readKeys(in);
     record.moved = readKeys(in);
     log.records_.push_back(std::move(record));
+  }
+}
+
+void CheckpointAccess::writeBallRefusals(const Grower& grower, ByteWriter& out) {
+  // Keyed by cell uid, which checkpoints keep (CellInfo::uid), so no remapping on load. Stale
+  // entries (cells destroyed or carved since) are saved too: the grower forgets all entries once
+  // there are more than kMaxBallRefusalsRemembered, and a resumed run must forget at the same
+  // update. Sorted, so equal maps give equal bytes.
+  std::vector<std::pair<std::uint32_t, std::uint64_t>> entries(grower.ball_refusals_.begin(),
+                                                                 grower.ball_refusals_.end());
+  std::sort(entries.begin(), entries.end());
+  out.u64(entries.size());
+  for (const auto& [uid, signature] : entries) {
+    out.u32(uid);
+    out.u64(signature);
+  }
+}
+
+void CheckpointAccess::readBallRefusals(Grower& grower, ByteReader& in, const MapState& state) {
+  in.section("ball pass refusals");
+  const std::size_t count = in.count(4 + 8);
+  if (count > Grower::kMaxBallRefusalsRemembered) {
+    in.fail("at most " + std::to_string(Grower::kMaxBallRefusalsRemembered) +
+            " remembered ball refusals, got " + std::to_string(count));
+  }
+  if (count > 0 && !state.config.edge_growing_pass) {
+    in.fail("no ball refusals with the edge and ball passes off");
+  }
+  grower.ball_refusals_.clear();
+  grower.ball_refusals_.reserve(count);
+  std::uint32_t previous = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint32_t uid = in.u32();
+    if (uid >= state.next_uid) {
+      in.fail("a cell uid below " + std::to_string(state.next_uid) + ", got " + std::to_string(uid));
+    }
+    if (i > 0 && uid <= previous) in.fail("cell uids in increasing order");
+    previous = uid;
+    grower.ball_refusals_.emplace(uid, in.u64());
   }
 }
 

@@ -258,6 +258,7 @@ void CheckpointAccess::write(const Mesher& mesher, ByteWriter& out) {
   writeRegistry(state.registry, state, out, numbering);
   writeSurfaceLog(state.surface_log, out);
   out.vector(impl.pending_removals_);
+  writeBallRefusals(impl.grower_, out);
 }
 
 void CheckpointAccess::read(Mesher& mesher, ByteReader& in) {
@@ -278,6 +279,7 @@ void CheckpointAccess::read(Mesher& mesher, ByteReader& in) {
   for (std::uint32_t index : impl.pending_removals_) {
     if (index >= state.registry.pointSlots()) in.fail("a pending removal naming a point slot");
   }
+  readBallRefusals(impl.grower_, in, state);
   // Cross-references between sections.
   in.section("cross-references");
   for (const VertexHandle& v : handles.vertices) {

@@ -11,6 +11,8 @@
 
 namespace terramesh::mesher::internal {
 
+class CheckpointAccess;
+
 /// Manifold growing: carves free cells into O in order of decreasing weight, adding a cell only if
 /// the boundary stays a 2-manifold; then (proposed mode) the edge pass, which adds all free cells
 /// around an edge of a refused cell at once; then the per-vertex pass that adds all cells around a
@@ -29,6 +31,8 @@ class Grower {
   void grow(const std::unordered_set<GridKey, GridKeyHash>* region, UpdateStats& stats);
 
  private:
+  friend class CheckpointAccess;  // saves and restores ball_refusals_ (kept between updates)
+
   struct QueueEntry {
     std::int32_t weight;
     std::uint32_t uid;
@@ -71,7 +75,10 @@ class Grower {
   /// Cells the edge pass tried, for the ball pass.
   std::vector<CellHandle> ball_candidates_;
   std::vector<CellHandle> ball_;
-  /// Cells whose ball was refused (by CellInfo::uid), with their neighbourhood signature then.
+  /// Cells whose ball was refused (by CellInfo::uid), with their neighbourhood signature then. The
+  /// only Grower state kept from one update to the next (the rest is scratch), so it is part of
+  /// checkpoints (checkpoint_records.cpp). Only looked up, never iterated: the passes do not depend
+  /// on its hash order. Between updates it holds at most kMaxBallRefusalsRemembered entries.
   std::unordered_map<std::uint32_t, std::uint64_t> ball_refusals_;
 };
 

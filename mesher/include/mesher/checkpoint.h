@@ -10,14 +10,16 @@
 namespace terramesh::mesher {
 
 /// Version of the checkpoint format written by saveCheckpoint; loadCheckpoint reads only this one.
-inline constexpr std::uint32_t kCheckpointFormatVersion = 2;
+/// 3: adds the ball pass's memory of refused balls at the end of the payload.
+inline constexpr std::uint32_t kCheckpointFormatVersion = 3;
 
 /// Writes the whole state of `mesher` to `out` (binary, little-endian; see docs/formats.md):
 /// a header with the magic "TMCKPT01", the format version, the payload's size and its FNV-1a
 /// 64-bit checksum, then the payload: the configuration, `app_data`, the Delaunay triangulation
 /// with every vertex's and cell's data (O, weights, crossing counts, stamps), the Steiner grid,
 /// the boundary hash, the rays with their paths and per-cell ray lists, the points and keyframes,
-/// and the surface history (so changesSince keeps working across a resume).
+/// the surface history (so changesSince keeps working across a resume), and the manifold growing's
+/// memory of refused balls (which balls its ball pass skips).
 ///
 /// A mesher loaded from the result continues exactly as the saved one would: the same updates
 /// give the same meshes, stats and surface deltas. O(map size). Does not change `mesher`.
