@@ -280,6 +280,9 @@ int runCompare(const std::vector<std::string>& args) {
     path_truth.bvh = &*truth_bvh;
     path_truth.up_W = labels->up_W;
     path_truth.max_slope_deg = profile->max_slope_deg;
+    path_truth.footprint_radius_m = profile->footprintCircumradiusM();
+    path_truth.max_step_m = profile->max_step_m;
+    path_truth.min_clearance_m = profile->min_clearance_m;
   }
 
   planning::WalkabilityConfig walkability;

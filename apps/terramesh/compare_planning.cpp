@@ -130,6 +130,15 @@ double dijkstra(const std::vector<std::vector<std::pair<std::uint32_t, double>>>
   return kNaN;
 }
 
+planning::demo::TruthCheckConfig truthCheckConfig(const PathTruth& truth) {
+  planning::demo::TruthCheckConfig config;
+  config.footprint_radius_m = truth.footprint_radius_m;
+  config.max_step_m = truth.max_step_m;
+  config.min_clearance_m = truth.min_clearance_m;
+  config.max_slope_deg = truth.max_slope_deg;
+  return config;
+}
+
 }  // namespace
 
 TruthPairs pairsOnObservedTruth(const evaluation::GroundTruthTraversability& labels, const datasets::TriangleBvh& truth_bvh,
@@ -278,7 +287,7 @@ PlanningOutcome planComparePairs(const traversability::LayeredMesh& map, const s
           std::vector<Eigen::Vector3d> path;
           for (const planning::PathState& state : result.states) path.push_back(state.location.point_W);
           const planning::demo::TruthCheck check = planning::demo::checkAgainstTruth(
-              *truth.mesh, *truth.bvh, path, truth.up_W, graph.metresPerUnit(), truth.max_slope_deg);
+              *truth.mesh, *truth.bvh, path, truth.up_W, graph.metresPerUnit(), truthCheckConfig(truth));
           ++outcome.truth_checked;
           outcome.truth_valid += check.valid ? 1 : 0;
           outcome.truth_reasons.back() = check.reason;

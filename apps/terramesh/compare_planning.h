@@ -70,6 +70,8 @@ struct PathTruth {
   const datasets::TriangleBvh* bvh = nullptr;
   Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
   double max_slope_deg = 20;
+  /// The robot's body for the footprint test (RobotProfile: circumscribed radius, step, height).
+  double footprint_radius_m = 0.3, max_step_m = 0.2, min_clearance_m = 1.0;
 };
 
 /// How one map did on the pairs (graph A* over its walkable faces, planning::planOnFaceGraph).

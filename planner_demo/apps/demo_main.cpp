@@ -181,6 +181,11 @@ int run(const Options& options) {
   const datasets::LabeledMesh truth =
       has_truth ? datasets::readLabeledPly(options.scene / "ground_truth.ply") : datasets::LabeledMesh{};
   const datasets::TriangleBvh bvh(truth.mesh);
+  planning::demo::TruthCheckConfig truth_config;  // the map's robot; a rectangle as its circumscribed disc
+  truth_config.footprint_radius_m = map.profile.footprintCircumradiusM();
+  truth_config.max_step_m = map.profile.max_step_m;
+  truth_config.min_clearance_m = map.profile.min_clearance_m;
+  truth_config.max_slope_deg = map.profile.max_slope_deg;
 
   planning::PlannerConfig config;
   config.planner = options.planner;
@@ -225,8 +230,7 @@ int run(const Options& options) {
                     const std::string& reason) {
     const bool checked = solved && has_truth;
     const planning::demo::TruthCheck check =
-        checked ? planning::demo::checkAgainstTruth(truth, bvh, path, map.map.up_W, map.map.metres_per_unit,
-                                                    map.profile.max_slope_deg)
+        checked ? planning::demo::checkAgainstTruth(truth, bvh, path, map.map.up_W, map.map.metres_per_unit, truth_config)
                 : planning::demo::TruthCheck{};
     tally.add(solved, length, cost, time, check.valid, checked);
     row(i, type, status, length, cost, time, check, checked, reason);

@@ -1,7 +1,11 @@
 #include "ground_truth_check.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 
 namespace terramesh::planning::demo {
 namespace {
@@ -19,46 +23,177 @@ std::string at(const Eigen::Vector3d& p) {
   return out.str();
 }
 
+std::string metres(double value_m, int decimals = 2) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(decimals);
+  out << value_m << " m";
+  return out.str();
+}
+
+std::string label(const datasets::LabeledMesh& truth, std::uint32_t face) {
+  return std::string(datasets::toString(truth.labels[face]));
+}
+
+/// The true faces a robot must not touch, with their indices in the truth.
+struct Obstacles {
+  mesher::TriangleMesh mesh;
+  std::vector<std::uint32_t> truth_face;
+};
+
+Obstacles nonDrivable(const datasets::LabeledMesh& truth) {
+  Obstacles obstacles;
+  obstacles.mesh.vertices = truth.mesh.vertices;
+  for (std::uint32_t f = 0; f < truth.mesh.faces.size(); ++f) {
+    if (drivable(truth.labels[f])) continue;
+    obstacles.mesh.faces.push_back(truth.mesh.faces[f]);
+    obstacles.truth_face.push_back(f);
+  }
+  return obstacles;
+}
+
+/// The true surface nearest to `p` along the vertical, within `range` (map units) above or
+/// below; `offset` is its height above p (negative: below p).
+struct Ground {
+  datasets::RayHit hit;
+  double offset = 0.0;
+};
+
+std::optional<Ground> groundNear(const datasets::TriangleBvh& bvh, const Eigen::Vector3d& p, const Eigen::Vector3d& up,
+                                 double range) {
+  const auto below = bvh.firstHit(p, -up, range);
+  const auto above = bvh.firstHit(p, up, range);
+  if (below && (!above || below->distance <= above->distance)) return Ground{*below, -below->distance};
+  if (above) return Ground{*above, above->distance};
+  return std::nullopt;
+}
+
+TruthCheck fail(TruthCheck check, std::string reason) {
+  check.valid = false;
+  check.reason = std::move(reason);
+  return check;
+}
+
 }  // namespace
+
+void TruthCheckConfig::validate() const {
+  std::ostringstream problems;
+  auto positive = [&](const char* name, double value) {
+    if (!(value > 0.0) || !std::isfinite(value)) problems << name << ": " << value << " (expected > 0); ";
+  };
+  auto nonNegative = [&](const char* name, double value) {
+    if (!(value >= 0.0) || !std::isfinite(value)) problems << name << ": " << value << " (expected >= 0); ";
+  };
+  positive("footprint_radius_m", footprint_radius_m);
+  nonNegative("max_step_m", max_step_m);
+  positive("min_clearance_m", min_clearance_m);
+  if (std::isfinite(max_step_m) && std::isfinite(min_clearance_m) && min_clearance_m < max_step_m) {
+    problems << "min_clearance_m: " << min_clearance_m << " (expected >= max_step_m " << max_step_m << "); ";
+  }
+  if (!(max_slope_deg > 0.0 && max_slope_deg <= 90.0)) {
+    problems << "max_slope_deg: " << max_slope_deg << " (expected (0, 90]); ";
+  }
+  positive("vertical_tolerance_m", vertical_tolerance_m);
+  positive("spacing_m", spacing_m);
+  nonNegative("crossing_lift_m", crossing_lift_m);
+  positive("body_slice_m", body_slice_m);
+  if (!(ground_search_m >= vertical_tolerance_m) || !std::isfinite(ground_search_m)) {
+    problems << "ground_search_m: " << ground_search_m << " (expected >= vertical_tolerance_m); ";
+  }
+  const std::string text = problems.str();
+  if (!text.empty()) throw std::invalid_argument("TruthCheckConfig: " + text.substr(0, text.size() - 2));
+}
 
 TruthCheck checkAgainstTruth(const datasets::LabeledMesh& truth, const datasets::TriangleBvh& bvh,
                              const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W,
-                             double metres_per_unit, double max_slope_deg, double spacing_m, double lift_m) {
+                             double metres_per_unit, const TruthCheckConfig& config) {
+  config.validate();
+  if (!(metres_per_unit > 0.0) || !std::isfinite(metres_per_unit)) {
+    throw std::invalid_argument("checkAgainstTruth: metres_per_unit " + std::to_string(metres_per_unit) +
+                                " (expected > 0)");
+  }
+  if (!(up_W.norm() > 0.0) || !up_W.allFinite()) throw std::invalid_argument("checkAgainstTruth: up_W is zero");
+  truth.validate();
+
   TruthCheck check;
   const Eigen::Vector3d up = up_W.normalized();
-  const double unit = 1.0 / metres_per_unit;
+  const double unit = 1.0 / metres_per_unit;  // map units per metre
   std::vector<Eigen::Vector3d> samples;
   for (std::size_t i = 0; i + 1 < path_W.size(); ++i) {
     const Eigen::Vector3d& a = path_W[i];
     const Eigen::Vector3d& b = path_W[i + 1];
-    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() * metres_per_unit / spacing_m)));
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil((b - a).norm() * metres_per_unit / config.spacing_m)));
     for (int s = 0; s < steps; ++s) samples.push_back(a + (b - a) * (static_cast<double>(s) / steps));
   }
   if (!path_W.empty()) samples.push_back(path_W.back());
   check.samples = samples.size();
+  if (samples.empty()) return check;
+
+  const Obstacles obstacles = nonDrivable(truth);
+  const datasets::TriangleBvh obstacle_bvh(obstacles.mesh);
+  const double radius_m = config.footprint_radius_m;
+  const int slices =
+      1 + static_cast<int>(std::ceil((config.min_clearance_m - config.max_step_m) / config.body_slice_m - 1e-9));
+  const std::string tolerance_note = " (tolerance " + metres(config.vertical_tolerance_m) +
+                                     "; the path lies on our reconstructed surface, so this is also the "
+                                     "reconstruction error there)";
+
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Eigen::Vector3d& p = samples[i];
-    const auto hit = bvh.firstHit(p + 0.5 * unit * up, -up, 1.5 * unit);
-    if (!hit) {
-      check.valid = false;
-      check.reason = "no true ground under the path at " + at(p);
-      return check;
+    // 1. The true ground under the sample, within the vertical tolerance.
+    const auto ground = groundNear(bvh, p, up, config.vertical_tolerance_m * unit);
+    if (!ground) {
+      const auto far = groundNear(bvh, p, up, config.ground_search_m * unit);
+      if (!far) {
+        return fail(check, "no true surface within " + metres(config.ground_search_m) +
+                               " above or below the path at " + at(p));
+      }
+      const double offset_m = far->offset * metres_per_unit;
+      return fail(check, "the path is " + metres(std::abs(offset_m), 3) + (offset_m < 0 ? " above" : " below") +
+                             " the true " + label(truth, far->hit.face) + " surface at " + at(p) + ", " +
+                             metres(std::abs(offset_m) - config.vertical_tolerance_m, 3) + " beyond the tolerance" +
+                             tolerance_note);
     }
-    const datasets::SurfaceLabel label = truth.labels[hit->face];
-    if (!drivable(label)) {
-      check.valid = false;
-      check.reason = std::string(datasets::toString(label)) + " under the path at " + at(p);
-      return check;
+    check.max_ground_offset_m = std::max(check.max_ground_offset_m, std::abs(ground->offset) * metres_per_unit);
+    const std::uint32_t face = ground->hit.face;
+    const Eigen::Vector3d& g = ground->hit.point;
+    // 2. Its label.
+    if (!drivable(truth.labels[face])) {
+      return fail(check, "true " + label(truth, face) + " face " + metres(std::abs(ground->offset) * metres_per_unit) +
+                             (ground->offset <= 0 ? " below" : " above") + " the path at " + at(p) +
+                             " (not drivable)");
     }
-    if (truth.slope_deg[hit->face] > max_slope_deg) {
-      check.valid = false;
-      check.reason = "true slope " + std::to_string(truth.slope_deg[hit->face]) + " deg under the path at " + at(p);
-      return check;
+    // 3. Its true slope.
+    if (truth.slope_deg[face] > config.max_slope_deg) {
+      std::ostringstream out;
+      out.precision(3);
+      out << "true slope " << truth.slope_deg[face] << " deg > " << config.max_slope_deg << " deg (by "
+          << truth.slope_deg[face] - config.max_slope_deg << " deg) under the path at " << at(p);
+      return fail(check, out.str());
     }
-    if (i > 0 && bvh.segmentOccluded(samples[i - 1] + lift_m * unit * up, p + lift_m * unit * up, 0.0)) {
-      check.valid = false;
-      check.reason = "the path crosses the true surface between " + at(samples[i - 1]) + " and " + at(p);
-      return check;
+    // 4. The body: no non-drivable face in the cylinder above the true ground.
+    if (obstacle_bvh.faceCount() > 0) {
+      for (int s = 0; s < slices; ++s) {
+        const double h_m = std::min(config.max_step_m + s * config.body_slice_m, config.min_clearance_m);
+        const datasets::SurfacePoint q = obstacle_bvh.closestPoint(g + h_m * unit * up);
+        const Eigen::Vector3d d = q.point - g;
+        const double height_m = d.dot(up) * metres_per_unit;
+        const double across_m = (d - d.dot(up) * up).norm() * metres_per_unit;
+        if (height_m > config.max_step_m && height_m < config.min_clearance_m && across_m < radius_m) {
+          return fail(check, "true " + label(truth, obstacles.truth_face[q.face]) + " face " + metres(across_m) +
+                                 " from the path at " + at(p) + ", inside the " + metres(radius_m) +
+                                 " footprint by " + metres(radius_m - across_m) + ", " + metres(height_m) +
+                                 " above the true ground (body from " + metres(config.max_step_m) + " to " +
+                                 metres(config.min_clearance_m) + "), at " + at(q.point));
+        }
+      }
+    }
+    // 5. Crossing the true surface between samples.
+    const Eigen::Vector3d lift = config.crossing_lift_m * unit * up;
+    if (i > 0 && bvh.segmentOccluded(samples[i - 1] + lift, p + lift, 0.0)) {
+      return fail(check, "the path lifted by " + metres(config.crossing_lift_m) +
+                             " crosses the true surface between " + at(samples[i - 1]) + " and " + at(p));
     }
   }
   return check;

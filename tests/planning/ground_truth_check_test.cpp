@@ -1,0 +1,224 @@
+// planner_demo's checkAgainstTruth on analytic truth meshes: a ground plane, a wall, a low ceiling
+// and a step, each with a path that must pass and its twin that must fail.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <vector>
+
+#include "ground_truth_check.h"
+
+namespace terramesh::planning::demo {
+namespace {
+
+using datasets::SurfaceLabel;
+using Eigen::Vector3d;
+using ::testing::HasSubstr;
+
+/// A labelled truth built from axis-aligned quads (two triangles each).
+class Truth {
+ public:
+  /// Horizontal rectangle [x0, x1] x [y0, y1] at height z.
+  Truth& level(double x0, double x1, double y0, double y1, double z, SurfaceLabel label, float slope_deg = 0.0f) {
+    return quad({x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}, label, slope_deg);
+  }
+  /// Vertical rectangle along x at y, from x0 to x1 and z0 to z1.
+  Truth& wallAlongX(double y, double x0, double x1, double z0, double z1, SurfaceLabel label) {
+    return quad({x0, y, z0}, {x1, y, z0}, {x1, y, z1}, {x0, y, z1}, label, 90.0f);
+  }
+  /// Vertical rectangle along y at x, from y0 to y1 and z0 to z1.
+  Truth& wallAlongY(double x, double y0, double y1, double z0, double z1, SurfaceLabel label) {
+    return quad({x, y0, z0}, {x, y1, z0}, {x, y1, z1}, {x, y0, z1}, label, 90.0f);
+  }
+  TruthCheck check(const std::vector<Vector3d>& path, const TruthCheckConfig& config) const {
+    const datasets::TriangleBvh bvh(mesh_.mesh);
+    return checkAgainstTruth(mesh_, bvh, path, Vector3d::UnitZ(), 1.0, config);
+  }
+
+ private:
+  Truth& quad(const Vector3d& a, const Vector3d& b, const Vector3d& c, const Vector3d& d, SurfaceLabel label,
+              float slope_deg) {
+    const auto base = static_cast<std::uint32_t>(mesh_.mesh.vertices.size());
+    mesh_.mesh.vertices.insert(mesh_.mesh.vertices.end(), {a, b, c, d});
+    mesh_.mesh.faces.push_back({base, base + 1, base + 2});
+    mesh_.mesh.faces.push_back({base, base + 2, base + 3});
+    for (int i = 0; i < 2; ++i) {
+      mesh_.labels.push_back(label);
+      mesh_.slope_deg.push_back(slope_deg);
+    }
+    return *this;
+  }
+  datasets::LabeledMesh mesh_;
+};
+
+/// small_wheeled: a 0.34 m disc, 0.18 m step, 0.5 m high, 20 deg.
+TruthCheckConfig smallWheeled() {
+  TruthCheckConfig config;
+  config.footprint_radius_m = 0.34;
+  config.max_step_m = 0.18;
+  config.min_clearance_m = 0.5;
+  config.max_slope_deg = 20.0;
+  return config;
+}
+
+std::vector<Vector3d> alongX(double y, double z) { return {{-3.0, y, z}, {0.0, y, z}, {3.0, y, z}}; }
+
+TEST(GroundTruthCheck, PathOnTheGroundPasses) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  const TruthCheck check = truth.check(alongX(0.0, 0.0), smallWheeled());
+  EXPECT_TRUE(check.valid) << check.reason;
+  EXPECT_EQ(check.samples, 61u);  // 6 m every 0.1 m, both ends
+  EXPECT_NEAR(check.max_ground_offset_m, 0.0, 1e-9);
+}
+
+TEST(GroundTruthCheck, PathWithinTheToleranceAboveTheGroundPasses) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  const TruthCheck check = truth.check(alongX(0.0, 0.25), smallWheeled());
+  EXPECT_TRUE(check.valid) << check.reason;
+  EXPECT_NEAR(check.max_ground_offset_m, 0.25, 1e-9);
+}
+
+TEST(GroundTruthCheck, PathHalfAMetreAboveTheGroundFails) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  const TruthCheck check = truth.check(alongX(0.0, 0.5), smallWheeled());
+  EXPECT_FALSE(check.valid);
+  EXPECT_THAT(check.reason, HasSubstr("0.500 m above the true road surface at (-3, 0, 0.5), 0.200 m beyond the tolerance"));
+  EXPECT_THAT(check.reason, HasSubstr("tolerance 0.30 m"));
+  EXPECT_THAT(check.reason, HasSubstr("reconstruction error"));
+}
+
+TEST(GroundTruthCheck, PathHalfAMetreBelowTheGroundFails) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  const TruthCheck check = truth.check(alongX(0.0, -0.5), smallWheeled());
+  EXPECT_FALSE(check.valid);
+  EXPECT_THAT(check.reason, HasSubstr("0.500 m below the true road surface"));
+}
+
+TEST(GroundTruthCheck, PathWithNoTrueSurfaceNearFails) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  const TruthCheck check = truth.check({{20.0, 0.0, 0.0}, {21.0, 0.0, 0.0}}, smallWheeled());
+  EXPECT_FALSE(check.valid);
+  EXPECT_THAT(check.reason, HasSubstr("no true surface within 5.00 m"));
+}
+
+TEST(GroundTruthCheck, WallWithinTheFootprintFailsAndBeyondItPasses) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kSidewalk).wallAlongX(1.0, -5, 5, 0.0, 2.0, SurfaceLabel::kWall);
+  const TruthCheck near = truth.check(alongX(0.8, 0.0), smallWheeled());  // 0.2 m from the wall
+  EXPECT_FALSE(near.valid);
+  EXPECT_THAT(near.reason, HasSubstr("true wall face 0.20 m from the path at (-3, 0.8, 0)"));
+  EXPECT_THAT(near.reason, HasSubstr("inside the 0.34 m footprint by 0.14 m"));
+  const TruthCheck far = truth.check(alongX(0.5, 0.0), smallWheeled());  // 0.5 m from it
+  EXPECT_TRUE(far.valid) << far.reason;
+  TruthCheckConfig narrow = smallWheeled();
+  narrow.footprint_radius_m = 0.15;  // the same 0.2 m gap is wide enough for a smaller robot
+  const TruthCheck small = truth.check(alongX(0.8, 0.0), narrow);
+  EXPECT_TRUE(small.valid) << small.reason;
+}
+
+TEST(GroundTruthCheck, LowCeilingFailsAndHighCeilingPasses) {
+  Truth low;
+  low.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).level(-1, 1, -2, 2, 0.4, SurfaceLabel::kCeiling, 180.0f);
+  const TruthCheck under_low = low.check(alongX(0.0, 0.0), smallWheeled());
+  EXPECT_FALSE(under_low.valid);
+  EXPECT_THAT(under_low.reason, HasSubstr("true ceiling face 0.30 m from the path at (-1.3, 0, 0), inside the 0.34 m footprint by 0.04 m"));
+  EXPECT_THAT(under_low.reason, HasSubstr("0.40 m above the true ground"));
+  Truth high;
+  high.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).level(-1, 1, -2, 2, 0.6, SurfaceLabel::kCeiling, 180.0f);
+  const TruthCheck under_high = high.check(alongX(0.0, 0.0), smallWheeled());
+  EXPECT_TRUE(under_high.valid) << under_high.reason;
+}
+
+/// Lower ground for x < 0, upper ground `step_m` higher for x > 0, joined by a wall riser.
+Truth step(double step_m) {
+  Truth truth;
+  truth.level(-5, 0, -5, 5, 0.0, SurfaceLabel::kRoad)
+      .level(0, 5, -5, 5, step_m, SurfaceLabel::kRoad)
+      .wallAlongY(0.0, -5, 5, 0.0, step_m, SurfaceLabel::kWall);
+  return truth;
+}
+
+std::vector<Vector3d> overStep(double step_m) {
+  return {{-3.0, 0.0, 0.0}, {-0.01, 0.0, 0.0}, {0.01, 0.0, step_m}, {3.0, 0.0, step_m}};
+}
+
+TEST(GroundTruthCheck, StepBelowMaxStepPassesAndAboveItFails) {
+  const TruthCheck low = step(0.1).check(overStep(0.1), smallWheeled());
+  EXPECT_TRUE(low.valid) << low.reason;
+  const TruthCheck high = step(0.25).check(overStep(0.25), smallWheeled());
+  EXPECT_FALSE(high.valid);
+  EXPECT_THAT(high.reason, HasSubstr("true wall face"));
+  EXPECT_THAT(high.reason, HasSubstr("above the true ground (body from 0.18 m to 0.50 m)"));
+}
+
+TEST(GroundTruthCheck, NonDrivableFaceUnderThePathFails) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kObstacle);
+  const TruthCheck check = truth.check(alongX(0.0, 0.0), smallWheeled());
+  EXPECT_FALSE(check.valid);
+  EXPECT_THAT(check.reason, HasSubstr("true obstacle face 0.00 m below the path at (-3, 0, 0) (not drivable)"));
+}
+
+TEST(GroundTruthCheck, TrueSlopeAboveTheLimitFails) {
+  Truth steep;
+  steep.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRamp, 25.0f);  // the label carries the true slope
+  const TruthCheck check = steep.check(alongX(0.0, 0.0), smallWheeled());
+  EXPECT_FALSE(check.valid);
+  EXPECT_THAT(check.reason, HasSubstr("true slope 25 deg > 20 deg (by 5 deg)"));
+  Truth gentle;
+  gentle.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRamp, 15.0f);
+  EXPECT_TRUE(gentle.check(alongX(0.0, 0.0), smallWheeled()).valid);
+}
+
+TEST(GroundTruthCheck, CrossingALowWallBetweenSamplesFails) {
+  // A wall 0.4 m high and 0.01 m thick across the path, sparse samples either side of it: the
+  // body test sees it from the samples; with a tiny robot only the crossing test can.
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).wallAlongY(0.0, -5, 5, 0.0, 0.4, SurfaceLabel::kWall);
+  TruthCheckConfig config = smallWheeled();
+  config.footprint_radius_m = 0.01;
+  config.spacing_m = 1.0;
+  const TruthCheck check = truth.check({{-0.5, 0.0, 0.0}, {0.5, 0.0, 0.0}}, config);
+  EXPECT_FALSE(check.valid);
+  EXPECT_THAT(check.reason, HasSubstr("crosses the true surface between (-0.5, 0, 0) and (0.5, 0, 0)"));
+}
+
+TEST(GroundTruthCheck, EmptyPathIsValid) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  const TruthCheck check = truth.check({}, smallWheeled());
+  EXPECT_TRUE(check.valid);
+  EXPECT_EQ(check.samples, 0u);
+}
+
+TEST(GroundTruthCheck, ValidateReportsEveryProblem) {
+  TruthCheckConfig config;
+  EXPECT_NO_THROW(config.validate());
+  config.footprint_radius_m = 0.0;
+  config.max_step_m = 0.6;
+  config.min_clearance_m = 0.5;
+  config.vertical_tolerance_m = -1.0;
+  config.body_slice_m = 0.0;
+  try {
+    config.validate();
+    FAIL() << "validate() accepted an invalid config";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_THAT(what, HasSubstr("footprint_radius_m: 0"));
+    EXPECT_THAT(what, HasSubstr("min_clearance_m: 0.5 (expected >= max_step_m 0.6)"));
+    EXPECT_THAT(what, HasSubstr("vertical_tolerance_m: -1"));
+    EXPECT_THAT(what, HasSubstr("body_slice_m: 0"));
+  }
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  EXPECT_THROW(truth.check(alongX(0.0, 0.0), config), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace terramesh::planning::demo
