@@ -224,6 +224,57 @@ TEST(IncrementalTest, CeilingMovingOverAFloorEqualsFullRecomputation) {
   }
 }
 
+TEST(IncrementalTest, ChangesOutsideAFacesHeightWindowDoNotRecomputeIt) {
+  // Two floors 8 m apart (beyond the clearance search and every height band): a bump on the upper
+  // floor recomputes only upper faces, and the map still equals a full recomputation. A map that
+  // recomputed every face within the footprint's horizontal reach would recompute lower faces too.
+  const RobotProfile profile = loadRobotProfile(kRobots / "small_wheeled.yaml");
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.25, [](double, double) { return 0.0; });
+  const std::size_t lower_faces = mesh.faces.size();
+  test::appendMesh(mesh, test::heightFieldMesh(-3, 3, -3, 3, 0.25, [](double, double) { return 8.0; }));
+  const std::size_t upper_faces = mesh.faces.size() - lower_faces;
+  const auto faceOf = [&](std::size_t f) {
+    SurfaceFace face;
+    for (int i = 0; i < 3; ++i) {
+      face.vertices[i] = mesher::VertexKey{mesh.faces[f][i], false};
+      face.positions_W[i] = mesh.vertices[mesh.faces[f][i]];
+    }
+    face.key = FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
+    face.rays = 5;
+    return face;
+  };
+  std::vector<SurfaceFace> faces;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) faces.push_back(faceOf(f));
+  TraversabilityMap map(profile, MapFrame{});
+  map.reset(faces);
+  TraversabilityMap upper_only(profile, MapFrame{});
+  upper_only.reset(std::vector<SurfaceFace>(faces.begin() + static_cast<std::ptrdiff_t>(lower_faces), faces.end()));
+  mesher::SurfaceDelta delta;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (mesh.vertices[v].z() > 4.0 && mesh.vertices[v].head<2>().norm() < 1.0) mesh.vertices[v].z() += 0.3;
+  }
+  for (std::size_t f = lower_faces; f < mesh.faces.size(); ++f) {
+    const SurfaceFace face = faceOf(f);
+    if (face.positions_W == faces[f].positions_W) continue;
+    delta.removed.push_back(face.key);
+    delta.added.push_back(face);
+    faces[f] = face;
+  }
+  ASSERT_FALSE(delta.added.empty());
+  const LayerUpdateStats stats = map.apply(delta, {});
+  const LayerUpdateStats upper_stats = upper_only.apply(delta, {});
+  EXPECT_GT(upper_stats.faces_recomputed, delta.added.size());
+  EXPECT_LE(upper_stats.faces_recomputed, upper_faces);
+  EXPECT_EQ(stats.faces_recomputed, upper_stats.faces_recomputed) << "lower faces were recomputed";
+  TraversabilityMap fresh(profile, MapFrame{});
+  fresh.reset(faces);
+  const LayeredMesh expected = fresh.snapshot();
+  EXPECT_TRUE(sameLayers(map.snapshot(), expected));
+  std::size_t lethal = 0;
+  for (const FaceLayers& l : expected.layers) lethal += l.face_class == FaceClass::kLethal;
+  EXPECT_GT(lethal, 0u) << "the bump's rim must be lethal for the inflation to be exercised";
+}
+
 /// The scene's keyframes, then the same poses again in reverse order as new keyframes (a drive back
 /// over the same ground): the second pass re-observes the surface, so new rays end on existing
 /// vertices and cross the free cells in front of existing faces, changing the observation count of

@@ -9,16 +9,16 @@
 namespace terramesh::traversability::internal {
 namespace {
 
+constexpr double kMinGroundNormalZ = LayerComputer::kMinGroundNormalZ;
+constexpr double kMinClearanceGapM = LayerComputer::kMinClearanceGapM;
+constexpr double kSliceToleranceM = LayerComputer::kSliceToleranceM;
+
 constexpr double kRadToDeg = 180.0 / M_PI;
 /// Footprint samples per circumradius along each axis of the sample grid (at least).
 constexpr int kSamplesPerRadius = 5;
 /// Sample spacings across a rectangle's width (at least): the outermost samples fall within a
 /// quarter of the width of its sides (the car: 0.05 m inside).
 constexpr int kSamplesPerWidth = 4;
-/// Faces whose normal has a smaller upward component are not ground (walls, ceilings).
-constexpr double kMinGroundNormalZ = 1e-6;
-/// A face above the centroid closer than this is the face's own neighbourhood, not a ceiling.
-constexpr double kMinClearanceGapM = 1e-4;
 /// Steep faces up to this angle (vertical risers, slightly overhanging ones) may be step risers.
 constexpr double kMaxRiserSlopeDeg = 95.0;
 
@@ -26,10 +26,6 @@ constexpr double kMaxRiserSlopeDeg = 95.0;
 constexpr char kNoGround = 0;
 constexpr char kSteepGround = 1;
 constexpr char kLevelGround = 2;
-
-/// Slices of projected triangles are widened by this much: far more than rounding, far less than
-/// the footprint sample spacing.
-constexpr double kSliceToleranceM = 1e-6;
 
 /// floor and ceil of a double known to lie well within the int range (std::floor is a library
 /// call without SSE4.1).
@@ -113,6 +109,9 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
       offset_index_.push_back(inside ? static_cast<int>(offsets_.size()) : -1);
       if (inside) offsets_.emplace_back(i * spacing_m_, j * spacing_m_);
     }
+  }
+  for (const Eigen::Vector2d& o : offsets_) {
+    offset_terms_.push_back({o.x() * o.x(), o.x() * o.y(), o.x(), o.y() * o.y(), o.y()});
   }
   const double eps = 1e-9 * radius_m_;
   if (profile.footprint == FootprintShape::kDisc) {
@@ -202,33 +201,65 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
   }
 }
 
-LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>& samples, const Eigen::Vector3d& c,
-                                                        double ref_a, double ref_b, bool steep) const {
-  const std::vector<double>& z = z_;
-  const std::vector<double>& ref = ref_;
+void LayerComputer::prepareSamples(const Eigen::Vector3d& c, bool steep) const {
+  const double level_band = std::max(profile_.contact_tolerance_m, 0.5 * profile_.max_step_m);
+  const double reach = profile_.max_step_m + profile_.contact_tolerance_m;
+  terms_.resize(offsets_.size());
+  for (std::size_t i = 0; i < offsets_.size(); ++i) {
+    SampleTerms& t = terms_[i];
+    t.flags = 0;
+    if (std::isnan(z_[i])) continue;
+    t.dz = z_[i] - c.z();
+    t.x_dz = offsets_[i].x() * t.dz;
+    t.y_dz = offsets_[i].y() * t.dz;
+    const double off = std::abs(z_[i] - ref_[i]);
+    const int in_level = !steep && off <= level_band ? kInLevel : 0;
+    t.flags = static_cast<char>(kFound | in_level | (off <= reach ? kSupported : 0));
+  }
+}
+
+LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>& samples, double ref_a, double ref_b,
+                                                        bool steep) const {
   // Least-squares planes z - c.z = a x + b y + d over the centroid and the found samples: all of
   // them, and those of the face's level (near the face's plane: a fit over both levels of a step
-  // would tilt towards the upper one and hide part of the jump). Both in one pass.
-  const double level_band = std::max(profile_.contact_tolerance_m, 0.5 * profile_.max_step_m);
-  Eigen::Matrix3d all_matrix = Eigen::Matrix3d::Zero(), level_matrix = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d all_rhs = Eigen::Vector3d::Zero(), level_rhs = Eigen::Vector3d::Zero();
-  all_matrix(2, 2) = 1.0;  // the centroid itself: (0, 0, 0)
-  level_matrix(2, 2) = 1.0;
+  // would tilt towards the upper one and hide part of the jump). Both in one pass. The normal
+  // matrices are symmetric: their six distinct sums are accumulated (sample by sample, in order,
+  // the same additions as the full matrices'), from the per-sample terms of prepareSamples.
+  double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 1.0;  // the centroid itself: (0, 0, 0)
+  double l00 = 0, l01 = 0, l02 = 0, l11 = 0, l12 = 0, l22 = 1.0;
+  double r0 = 0, r1 = 0, r2 = 0, s0 = 0, s1 = 0, s2 = 0;
   int all_used = 1, level_used = 1;
   for (int i : samples) {
-    if (std::isnan(z[i])) continue;
-    const Eigen::Vector3d row(offsets_[i].x(), offsets_[i].y(), 1.0);
-    const Eigen::Matrix3d outer = row * row.transpose();
-    const Eigen::Vector3d rhs = row * (z[i] - c.z());
-    all_matrix += outer;
-    all_rhs += rhs;
+    const SampleTerms& t = terms_[static_cast<std::size_t>(i)];
+    if (!(t.flags & kFound)) continue;
+    const OffsetTerms& o = offset_terms_[static_cast<std::size_t>(i)];
+    a00 += o.xx;
+    a01 += o.xy;
+    a02 += o.x;
+    a11 += o.yy;
+    a12 += o.y;
+    a22 += 1.0;
+    r0 += t.x_dz;
+    r1 += t.y_dz;
+    r2 += t.dz;
     ++all_used;
-    if (!steep && std::abs(z[i] - ref[i]) <= level_band) {
-      level_matrix += outer;
-      level_rhs += rhs;
+    if (t.flags & kInLevel) {
+      l00 += o.xx;
+      l01 += o.xy;
+      l02 += o.x;
+      l11 += o.yy;
+      l12 += o.y;
+      l22 += 1.0;
+      s0 += t.x_dz;
+      s1 += t.y_dz;
+      s2 += t.dz;
       ++level_used;
     }
   }
+  Eigen::Matrix3d all_matrix, level_matrix;
+  all_matrix << a00, a01, a02, a01, a11, a12, a02, a12, a22;
+  level_matrix << l00, l01, l02, l01, l11, l12, l02, l12, l22;
+  const Eigen::Vector3d all_rhs(r0, r1, r2), level_rhs(s0, s1, s2);
   // The plane, or nullopt if the points do not span one.
   const auto solve = [](const Eigen::Matrix3d& m, const Eigen::Vector3d& rhs, int used) -> std::optional<Eigen::Vector3d> {
     if (used < 3) return std::nullopt;
@@ -246,18 +277,18 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   // range against the level's plane; and the supported samples.
   double sum_sq = all_plane.z() * all_plane.z(), step_min = -level_plane.z(), step_max = -level_plane.z();
   int n = 1, supported = 0;
-  const double reach = profile_.max_step_m + profile_.contact_tolerance_m;
   for (int i : samples) {
-    if (std::isnan(z[i])) continue;
-    const Eigen::Vector2d& o = offsets_[i];
-    const double dz = z[i] - c.z();
+    const SampleTerms& t = terms_[static_cast<std::size_t>(i)];
+    if (!(t.flags & kFound)) continue;
+    const Eigen::Vector2d& o = offsets_[static_cast<std::size_t>(i)];
+    const double dz = t.dz;
     const double e_all = dz - (all_plane.x() * o.x() + all_plane.y() * o.y() + all_plane.z());
     const double e_level = dz - (level_plane.x() * o.x() + level_plane.y() * o.y() + level_plane.z());
     sum_sq += e_all * e_all;
     ++n;
     step_min = std::min(step_min, e_level);
     step_max = std::max(step_max, e_level);
-    if (std::abs(z[i] - ref[i]) <= reach) ++supported;
+    if (t.flags & kSupported) ++supported;
   }
   out.roughness_m = std::sqrt(sum_sq / n);
   out.step_m = step_max - step_min;
@@ -272,17 +303,37 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   return out;
 }
 
+LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
+  const Eigen::Vector3d& n = f.normal_L;
+  const Eigen::Vector3d& c = f.centroid_L;
+  Reference r;
+  r.slope_deg =
+      n.squaredNorm() > 0 ? static_cast<float>(std::acos(std::clamp(n.z(), -1.0, 1.0)) * kRadToDeg) : 90.0f;
+  r.steep = !(r.slope_deg <= profile_.max_slope_deg) || n.z() <= kMinGroundNormalZ;
+  // Reference plane z = c.z + a x + b y (x, y relative to the centroid).
+  r.ref_a = r.steep ? 0.0 : -n.x() / n.z();
+  r.ref_b = r.steep ? 0.0 : -n.y() / n.z();
+  // Only faces reaching the samples' height band can be ground: the reference plane stays within
+  // |grad| R of the centroid over the footprint (widened far beyond rounding).
+  const double ref_spread = std::hypot(r.ref_a, r.ref_b) * radius_m_ + 1e-6 * (1.0 + radius_m_);
+  r.window.z_lo = c.z() - ref_spread - band_down_m_;
+  r.window.z_hi = c.z() + ref_spread + profile_.min_clearance_m;
+  return r;
+}
+
+LayerComputer::GroundWindow LayerComputer::groundWindow(const StoredFace& face) const {
+  return reference(face).window;
+}
+
 void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   StoredFace& f = store.face(s);
   FaceLayers& layers = f.layers;
-  const Eigen::Vector3d& n = f.normal_L;
   const Eigen::Vector3d& c = f.centroid_L;
-  layers.slope_deg = n.squaredNorm() > 0 ? static_cast<float>(std::acos(std::clamp(n.z(), -1.0, 1.0)) * kRadToDeg)
-                                         : 90.0f;
-  const bool steep = !(layers.slope_deg <= profile_.max_slope_deg) || n.z() <= kMinGroundNormalZ;
-  // Reference plane z = c.z + a x + b y (x, y relative to the centroid).
-  const double ref_a = steep ? 0.0 : -n.x() / n.z();
-  const double ref_b = steep ? 0.0 : -n.y() / n.z();
+  const Reference reference_plane = reference(f);
+  layers.slope_deg = reference_plane.slope_deg;
+  const bool steep = reference_plane.steep;
+  const double ref_a = reference_plane.ref_a;
+  const double ref_b = reference_plane.ref_b;
 
   const std::size_t count = offsets_.size();
   // Ground candidates: upward-facing faces whose projection's box meets the footprint's box.
@@ -290,10 +341,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   const Eigen::Vector2d hi = c.head<2>() + Eigen::Vector2d(radius_m_, radius_m_);
   std::vector<Slot>& candidates = candidates_;
   candidates.clear();
-  // Only faces reaching the samples' height band can be ground: the reference plane stays within
-  // |grad| R of the centroid over the footprint (widened far beyond rounding).
-  const double ref_spread = std::hypot(ref_a, ref_b) * radius_m_ + 1e-6 * (1.0 + radius_m_);
-  const double z_lo = c.z() - ref_spread - band_down_m_, z_hi = c.z() + ref_spread + profile_.min_clearance_m;
+  const double z_lo = reference_plane.window.z_lo, z_hi = reference_plane.window.z_hi;
   store.forEachInBox(lo, hi, [&](Slot t) {
     const FaceBounds& g = store.bounds(t);
     if (!g.alive || g.normal_z <= kMinGroundNormalZ || g.max_z < z_lo || g.min_z > z_hi) return;
@@ -311,11 +359,12 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   }
   f.level_fraction = found_samples ? static_cast<float>(level_samples) / static_cast<float>(found_samples) : 0.0f;
   // Each heading's footprint is judged on its own samples; the face is reported at the best one.
+  prepareSamples(c, steep);
   HeadingResult best;
   double worst_contact = 1.0, best_contact = 0.0;
   bool first = true;
   for (const std::vector<int>& samples : heading_samples_) {
-    const HeadingResult h = judgeHeading(samples, c, ref_a, ref_b, steep);
+    const HeadingResult h = judgeHeading(samples, ref_a, ref_b, steep);
     worst_contact = std::min(worst_contact, h.contact);
     best_contact = std::max(best_contact, h.contact);
     // The best heading: one that fits, then the smallest badness, then the first.

@@ -44,6 +44,34 @@ class LayerComputer {
   /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`.
   void computeLocal(SurfaceStore& store, Slot s) const;
 
+  /// The height window a face's ground candidates must reach (computeLocal's filter), from its
+  /// centroid and normal only.
+  struct GroundWindow {
+    double z_lo = 0, z_hi = 0;
+  };
+  GroundWindow groundWindow(const StoredFace& face) const;
+  /// Whether a face t (its bounds and whether heightAt can sample it) can take part in the local
+  /// layers of a face with centroid `c` and ground window `w`, as a ground candidate or as its
+  /// ceiling, wherever t lies horizontally (the caller tests the reach). When false, adding or
+  /// removing t changes no local layer of that face: computeLocal skips t in both searches.
+  bool mayAffect(const Eigen::Vector3d& c, const GroundWindow& w, const FaceBounds& t, bool t_sampleable) const {
+    // The two filters of computeLocal, on t's height range (both searches skip faces heightAt
+    // cannot sample).
+    if (!t_sampleable) return false;
+    if (!(t.normal_z <= kMinGroundNormalZ) && !(t.max_z < w.z_lo || t.min_z > w.z_hi)) return true;
+    return !(c.x() < t.box_min.x() - kSliceToleranceM || c.x() > t.box_max.x() + kSliceToleranceM ||
+             c.y() < t.box_min.y() - kSliceToleranceM || c.y() > t.box_max.y() + kSliceToleranceM ||
+             t.max_z < c.z() + kMinClearanceGapM || t.min_z - c.z() > clearance_search_m_);
+  }
+
+  /// Faces whose normal has a smaller upward component are not ground (walls, ceilings).
+  static constexpr double kMinGroundNormalZ = 1e-6;
+  /// A face above the centroid closer than this is the face's own neighbourhood, not a ceiling.
+  static constexpr double kMinClearanceGapM = 1e-4;
+  /// Slices of projected triangles are widened by this much: far more than rounding, far less than
+  /// the footprint sample spacing; so are face boxes in the clearance search.
+  static constexpr double kSliceToleranceM = 1e-6;
+
   /// Whether known face layers make a face lethal: too steep (see docs for the step-riser rule),
   /// too low a clearance, or the footprint fits at no heading.
   bool lethal(const StoredFace& face) const;
@@ -53,6 +81,15 @@ class LayerComputer {
   double inflationTerm(double distance_m) const;
 
  private:
+  /// A face's reference plane z = c.z + ref_a x + ref_b y and its ground window.
+  struct Reference {
+    float slope_deg = 0;
+    bool steep = false;  ///< steeper than max_slope (or not facing up): horizontal reference
+    double ref_a = 0, ref_b = 0;
+    GroundWindow window;
+  };
+  Reference reference(const StoredFace& face) const;
+
   /// The footprint layers at one heading.
   struct HeadingResult {
     double step_m = 0, roughness_m = 0, contact = 0;
@@ -63,11 +100,26 @@ class LayerComputer {
   /// Finds, for every footprint sample of the face with centroid c, the ground closest to the
   /// sample's reference height (z_ and level_ scratch; NaN where none).
   void sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c) const;
-  /// Judges the footprint made of `samples` (indices in offsets_) from the sampled ground; the
-  /// face's reference plane is z = c.z + ref_a x + ref_b y; `steep`: the face is steeper than
+  /// Fills terms_ from the sampled ground (z_, ref_) of the face with centroid c.
+  void prepareSamples(const Eigen::Vector3d& c, bool steep) const;
+  /// Judges the footprint made of `samples` (indices in offsets_) from the sampled ground (terms_);
+  /// the face's reference plane is z = c.z + ref_a x + ref_b y; `steep`: the face is steeper than
   /// max_slope.
-  HeadingResult judgeHeading(const std::vector<int>& samples, const Eigen::Vector3d& c, double ref_a, double ref_b,
-                             bool steep) const;
+  HeadingResult judgeHeading(const std::vector<int>& samples, double ref_a, double ref_b, bool steep) const;
+
+  /// Per footprint offset (x, y): the products its row (x, y, 1) adds to a plane fit's normal
+  /// matrix (x x, x y, x, y y, y; the 1 is added as 1).
+  struct OffsetTerms {
+    double xx, xy, x, yy, y;
+  };
+  /// Per sample of the current face: dz = ground - centroid height, x dz, y dz and flags.
+  struct SampleTerms {
+    double dz = 0, x_dz = 0, y_dz = 0;
+    char flags = 0;
+  };
+  static constexpr char kFound = 1;      ///< the sample found ground
+  static constexpr char kInLevel = 2;    ///< ... within the face's level band (not steep faces)
+  static constexpr char kSupported = 4;  ///< ... within max_step + contact_tolerance of the plane
 
   RobotProfile profile_;
   double radius_m_;
@@ -79,6 +131,7 @@ class LayerComputer {
   std::vector<int> offset_index_;
   /// Per heading, the indices of offsets_ inside the footprint.
   std::vector<std::vector<int>> heading_samples_;
+  std::vector<OffsetTerms> offset_terms_;
   double band_down_m_;
   double clearance_search_m_;
   double cos_max_slope_;
@@ -88,6 +141,7 @@ class LayerComputer {
   mutable std::vector<double> ref_;
   mutable std::vector<double> z_;
   mutable std::vector<char> level_;
+  mutable std::vector<SampleTerms> terms_;
 };
 
 }  // namespace terramesh::traversability::internal

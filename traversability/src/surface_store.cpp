@@ -7,10 +7,17 @@
 
 namespace terramesh::traversability::internal {
 
-SurfaceStore::SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m)
-    : R_L_W_(R_L_W), metres_per_unit_(metres_per_unit), cell_m_(cell_m) {}
+SurfaceStore::SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m,
+                           double centroid_cell_m)
+    : R_L_W_(R_L_W), metres_per_unit_(metres_per_unit), cell_m_(cell_m), centroid_cell_m_(centroid_cell_m) {}
 
 std::int64_t SurfaceStore::cellIndex(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_m_)); }
+std::int64_t SurfaceStore::centroidCellIndex(double v) const {
+  return static_cast<std::int64_t>(std::floor(v / centroid_cell_m_));
+}
+SurfaceStore::CellKey SurfaceStore::centroidCellKey(const Eigen::Vector3d& c) const {
+  return cellKey(centroidCellIndex(c.x()), centroidCellIndex(c.y()));
+}
 
 SurfaceStore::CellKey SurfaceStore::cellKey(std::int64_t i, std::int64_t j) const {
   const auto pack = [](std::int64_t x) { return static_cast<std::uint64_t>(x + (std::int64_t{1} << 31)) & 0xffffffffull; };
@@ -18,7 +25,7 @@ SurfaceStore::CellKey SurfaceStore::cellKey(std::int64_t i, std::int64_t j) cons
 }
 
 Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
-  if (auto existing = find(input.key)) remove(input.key);
+  remove(input.key);
   Slot s;
   if (!free_slots_.empty()) {
     s = free_slots_.back();
@@ -28,6 +35,7 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
     faces_.emplace_back();
     bounds_.emplace_back();
     geometry_.emplace_back();
+    centroids_.emplace_back();
   }
   StoredFace& f = faces_[s];
   f = StoredFace{};
@@ -36,6 +44,7 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   f.positions_W = input.positions_W;
   for (int i = 0; i < 3; ++i) f.p_L[i] = R_L_W_ * (input.positions_W[i] * metres_per_unit_);
   f.centroid_L = (f.p_L[0] + f.p_L[1] + f.p_L[2]) / 3.0;
+  centroids_[s] = f.centroid_L;
   const Eigen::Vector3d n = (f.p_L[1] - f.p_L[0]).cross(f.p_L[2] - f.p_L[0]);
   f.normal_L = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
   f.box_min = f.p_L[0].head<2>().cwiseMin(f.p_L[1].head<2>()).cwiseMin(f.p_L[2].head<2>());
@@ -85,28 +94,38 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   return s;
 }
 
-std::optional<StoredFace> SurfaceStore::remove(const mesher::FaceKey& key) {
+bool SurfaceStore::remove(const mesher::FaceKey& key) {
   const auto it = by_key_.find(key);
-  if (it == by_key_.end()) return std::nullopt;
+  if (it == by_key_.end()) return false;
   const Slot s = it->second;
   by_key_.erase(it);
+  release(s);
+  return true;
+}
+
+void SurfaceStore::removeSlot(Slot s) {
+  by_key_.erase(faces_[s].key);
+  release(s);
+}
+
+void SurfaceStore::release(Slot s) {
   unlink(s);
-  StoredFace copy = faces_[s];
   faces_[s].alive = false;
   bounds_[s].alive = false;
   geometry_[s].sampleable = false;
   free_slots_.push_back(s);
-  return copy;
 }
 
 void SurfaceStore::clear() {
   faces_.clear();
   bounds_.clear();
   geometry_.clear();
+  centroids_.clear();
   free_slots_.clear();
   by_key_.clear();
   by_vertex_.clear();
   grid_.clear();
+  centroid_grid_.clear();
   marks_.clear();
   epoch_ = 0;
 }
@@ -125,6 +144,7 @@ void SurfaceStore::link(Slot s) {
       grid_[cellKey(i, j)].push_back(s);
     }
   }
+  centroid_grid_[centroidCellKey(f.centroid_L)].push_back(s);
 }
 
 void SurfaceStore::unlink(Slot s) {
@@ -145,11 +165,11 @@ void SurfaceStore::unlink(Slot s) {
   for (std::int64_t i = cellIndex(f.box_min.x()); i <= cellIndex(f.box_max.x()); ++i) {
     for (std::int64_t j = cellIndex(f.box_min.y()); j <= cellIndex(f.box_max.y()); ++j) {
       const auto it = grid_.find(cellKey(i, j));
-      if (it == grid_.end()) continue;
-      erase(it->second);
-      if (it->second.empty()) grid_.erase(it);
+      if (it != grid_.end()) erase(it->second);
     }
   }
+  const auto it = centroid_grid_.find(centroidCellKey(f.centroid_L));
+  if (it != centroid_grid_.end()) erase(it->second);
 }
 
 void SurfaceStore::neighbours(Slot s, std::vector<Slot>& out) const {

@@ -89,17 +89,22 @@ struct SampleGeometry {
 };
 
 /// Faces by key, vertex and horizontal grid cell. Each face is registered in every grid cell its
-/// horizontal bounding box overlaps, so point queries see large faces too. Not thread-safe (the
+/// horizontal bounding box overlaps, so point queries see large faces too, and in the one cell of
+/// a second grid that holds its centroid (for "faces whose centroid is near" queries). Not thread-safe (the
 /// queries use scratch marks).
 class SurfaceStore {
  public:
   /// @param R_L_W rotation taking map-frame directions to L (up_W -> +z).
-  SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m);
+  /// @param cell_m cell of the grid of face boxes; @param centroid_cell_m cell of the grid of
+  /// face centroids (both metres, > 0).
+  SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m, double centroid_cell_m);
 
   /// Adds a face, replacing one with the same key. Returns its slot.
   Slot add(const mesher::SurfaceFace& face);
-  /// Removes the face with this key; returns a copy of it, or nothing if unknown.
-  std::optional<StoredFace> remove(const mesher::FaceKey& key);
+  /// Removes the face with this key; false if unknown.
+  bool remove(const mesher::FaceKey& key);
+  /// Removes the alive face in slot s (its slot may be reused by the next add).
+  void removeSlot(Slot s);
   void clear();
 
   std::optional<Slot> find(const mesher::FaceKey& key) const;
@@ -109,6 +114,8 @@ class SurfaceStore {
   const FaceBounds& bounds(Slot s) const { return bounds_[s]; }
   /// The face's sampling geometry (equal to that of face(s)).
   const SampleGeometry& geometry(Slot s) const { return geometry_[s]; }
+  /// The face's centroid (equal to face(s).centroid_L), packed densely.
+  const Eigen::Vector3d& centroid(Slot s) const { return centroids_[s]; }
   /// Number of slots (alive or not).
   std::size_t slotCount() const { return faces_.size(); }
   std::size_t size() const { return by_key_.size(); }
@@ -120,6 +127,11 @@ class SurfaceStore {
   /// faces whose projection contains the point).
   template <class F>
   void forEachAt(double x, double y, F&& f) const;
+  /// Calls f(slot) once for every alive face whose centroid lies in a centroid-grid cell
+  /// overlapping the box (a superset of the faces whose centroid lies in the box; each face is in
+  /// one cell, so no marks are needed and queries may nest).
+  template <class F>
+  void forEachCentroidInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, F&& f) const;
   /// Faces sharing an edge with `s`.
   void neighbours(Slot s, std::vector<Slot>& out) const;
 
@@ -127,8 +139,12 @@ class SurfaceStore {
   using CellKey = std::uint64_t;
   CellKey cellKey(std::int64_t i, std::int64_t j) const;
   std::int64_t cellIndex(double v) const;
+  std::int64_t centroidCellIndex(double v) const;
+  CellKey centroidCellKey(const Eigen::Vector3d& c) const;
   void link(Slot s);
   void unlink(Slot s);
+  /// Unlinks slot s and frees it (its key already erased).
+  void release(Slot s);
 
   Eigen::Matrix3d R_L_W_;
   double metres_per_unit_;
@@ -136,9 +152,15 @@ class SurfaceStore {
   std::vector<StoredFace> faces_;
   std::vector<FaceBounds> bounds_;
   std::vector<SampleGeometry> geometry_;
+  std::vector<Eigen::Vector3d> centroids_;
   std::vector<Slot> free_slots_;
   std::unordered_map<mesher::FaceKey, Slot> by_key_;
   std::unordered_map<mesher::VertexKey, std::vector<Slot>> by_vertex_;
+  double centroid_cell_m_;
+  /// Faces by the cell of their centroid (cells are kept when they empty, as in grid_).
+  std::unordered_map<CellKey, std::vector<Slot>> centroid_grid_;
+  /// Cells are kept when they empty (their lists are reused: no allocation churn); the number of
+  /// cells is bounded by the area ever mapped.
   std::unordered_map<CellKey, std::vector<Slot>> grid_;
   mutable std::vector<std::uint32_t> marks_;
   mutable std::uint32_t epoch_ = 0;
@@ -174,6 +196,19 @@ void SurfaceStore::forEachInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d
         marks_[s] = epoch_;
         f(s);
       }
+    }
+  }
+}
+
+template <class F>
+void SurfaceStore::forEachCentroidInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, F&& f) const {
+  const std::int64_t i0 = centroidCellIndex(lo.x()), i1 = centroidCellIndex(hi.x());
+  const std::int64_t j0 = centroidCellIndex(lo.y()), j1 = centroidCellIndex(hi.y());
+  for (std::int64_t i = i0; i <= i1; ++i) {
+    for (std::int64_t j = j0; j <= j1; ++j) {
+      const auto it = centroid_grid_.find(cellKey(i, j));
+      if (it == centroid_grid_.end()) continue;
+      for (Slot s : it->second) f(s);
     }
   }
 }

@@ -42,10 +42,24 @@ double gridCellM(const RobotProfile& profile) {
   return std::clamp(profile.footprintCircumradiusM(), 1.0, 4.0);
 }
 
+/// Cell of the grid of face centroids (the queries "faces whose centroid is within reach of a
+/// change"): small enough that a query reads few faces it must reject, large enough that it reads
+/// few cells.
+double centroidCellM(const RobotProfile& profile) {
+  return std::clamp(profile.footprintCircumradiusM(), 1.0, 4.0);
+}
+
 /// A face's projection on the horizontal plane.
 struct Projection {
   std::array<Eigen::Vector2d, 3> p;
   Eigen::Vector2d lo, hi;
+};
+
+/// A face added or removed: its projection, bounds and whether heightAt can sample it.
+struct Change {
+  Projection projection;
+  internal::FaceBounds bounds;
+  bool sampleable = false;
 };
 
 Projection projectionOf(const StoredFace& f) {
@@ -110,7 +124,7 @@ class TraversabilityMap::Impl {
       : profile_(profile),
         frame_(frame),
         computer_(profile),
-        store_(levelRotation(frame.up_W), frame.metres_per_unit, gridCellM(profile)) {}
+        store_(levelRotation(frame.up_W), frame.metres_per_unit, gridCellM(profile), centroidCellM(profile)) {}
 
   LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces) {
     const auto start = std::chrono::steady_clock::now();
@@ -121,7 +135,9 @@ class TraversabilityMap::Impl {
     grow();
     std::vector<Slot> all;
     for (Slot s = 0; s < store_.slotCount(); ++s) {
-      if (store_.face(s).alive) all.push_back(s);
+      if (!store_.face(s).alive) continue;
+      all.push_back(s);
+      window_[s] = computer_.groundWindow(store_.face(s));
     }
     for (Slot s : all) computeLocalAndLethal(s);
     fullInflation();
@@ -141,21 +157,28 @@ class TraversabilityMap::Impl {
     }
     const auto start = std::chrono::steady_clock::now();
     LayerUpdateStats stats;
-    std::vector<Eigen::Vector3d> change_points;  // centroids (L) of faces added, removed, re-judged
-    std::vector<Projection> changed;  // horizontal projections of the faces added and removed
+    // Centroids (L) of the changes the inflation must see: faces added, faces removed that were
+    // within the inflation radius of a lethal face (a face at no finite distance lies on no
+    // shortest path, so removing it changes no distance), faces re-judged lethal or not.
+    std::vector<Eigen::Vector3d>& change_points = change_points_;
+    change_points.clear();
+    std::vector<Change>& changed = changed_;  // the faces added and removed
+    changed.clear();
     const auto removeKey = [&](const mesher::FaceKey& key) {
       const std::optional<Slot> slot = store_.find(key);
       if (!slot) return false;
+      const bool had_distance = std::isfinite(distance_[*slot]);
+      changed.push_back({projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable});
+      if (had_distance) change_points.push_back(store_.centroid(*slot));
       lethal_[*slot] = 0;
       distance_[*slot] = kInf;
-      const std::optional<StoredFace> old = store_.remove(key);
-      change_points.push_back(old->centroid_L);
-      changed.push_back(projectionOf(*old));
+      store_.removeSlot(*slot);
       return true;
     };
     // Churn: a face removed and re-added with the same vertices and positions changes nothing
     // but (maybe) its observation count, which is re-read like the counts of `around`.
-    std::vector<Slot> reobserved;
+    std::vector<Slot>& reobserved = reobserved_;
+    reobserved.clear();
     const auto setRays = [&](Slot s, std::uint32_t rays) {
       StoredFace& f = store_.face(s);
       if (f.rays == rays) return;
@@ -163,7 +186,8 @@ class TraversabilityMap::Impl {
       f.layers.rays = rays;
       reobserved.push_back(s);
     };
-    std::unordered_set<mesher::FaceKey> unchanged;
+    std::unordered_set<mesher::FaceKey>& unchanged = unchanged_;
+    unchanged.clear();
     for (const mesher::SurfaceFace& face : delta.added) {
       const std::optional<Slot> s = store_.find(face.key);
       if (!s || !sameGeometry(store_.face(*s), face)) continue;
@@ -172,23 +196,25 @@ class TraversabilityMap::Impl {
     }
     stats.faces_readded_unchanged = unchanged.size();
     for (const mesher::FaceKey& key : delta.removed) {
-      stats.faces_removed += unchanged.count(key) != 0 || removeKey(key) ? 1 : 0;
+      stats.faces_removed += (!unchanged.empty() && unchanged.count(key) != 0) || removeKey(key) ? 1 : 0;
     }
-    std::vector<Slot> added;
+    std::vector<Slot>& added = added_;
+    added.clear();
     for (const mesher::SurfaceFace& face : delta.added) {
-      if (unchanged.count(face.key) != 0) {
+      if (!unchanged.empty() && unchanged.count(face.key) != 0) {
         ++stats.faces_added;
         continue;
       }
-      removeKey(face.key);
+      removeKey(face.key);  // then add() finds no face with its key
       const Slot s = store_.add(face);
       grow();
       lethal_[s] = 0;
       distance_[s] = kInf;
-      added.push_back(s);
       const StoredFace& f = store_.face(s);
+      window_[s] = computer_.groundWindow(f);
+      added.push_back(s);
       change_points.push_back(f.centroid_L);
-      changed.push_back(projectionOf(f));
+      changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
     }
     stats.faces_added += added.size();
     for (const mesher::SurfaceFace& face : around) {
@@ -196,40 +222,51 @@ class TraversabilityMap::Impl {
     }
     stats.faces_reobserved = reobserved.size();
 
-    // Local layers: every face whose footprint disc or clearance column meets a changed face.
+    // Local layers: every face whose footprint disc or clearance column meets a changed face that
+    // can be its ground or its ceiling (LayerComputer::mayAffect).
     const double reach = computer_.reachM() * (1 + 1e-9) + 1e-6;
     const std::uint32_t epoch = nextEpoch();
-    std::vector<Slot> dirty;
+    std::vector<Slot>& dirty = dirty_;
+    dirty.clear();
     const auto markDirty = [&](Slot s) {
       if (mark_[s] == epoch) return;
       mark_[s] = epoch;
       dirty.push_back(s);
     };
     for (Slot s : added) markDirty(s);
-    for (const Projection& p : changed) {
+    const std::size_t added_dirty = dirty.size();
+    for (const Change& change : changed) {
+      const Projection& p = change.projection;
       const Eigen::Vector2d r(reach, reach);
-      store_.forEachInBox(p.lo - r, p.hi + r, [&](Slot s) {
-        if (mark_[s] != epoch && distanceToTriangle(store_.face(s).centroid_L.head<2>(), p) <= reach) markDirty(s);
+      store_.forEachCentroidInBox(p.lo - r, p.hi + r, [&](Slot s) {
+        if (mark_[s] == epoch) return;
+        const Eigen::Vector3d& c = store_.centroid(s);
+        if (computer_.mayAffect(c, window_[s], change.bounds, change.sampleable) &&
+            distanceToTriangle(c.head<2>(), p) <= reach) {
+          markDirty(s);
+        }
       });
     }
-    for (Slot s : dirty) {
+    // The faces added come first in `dirty` (added_dirty of them); they are change points already.
+    for (std::size_t i = 0; i < dirty.size(); ++i) {
+      const Slot s = dirty[i];
       const char was_lethal = lethal_[s];
       computeLocalAndLethal(s);
-      if (lethal_[s] != was_lethal) change_points.push_back(store_.face(s).centroid_L);
+      if (i >= added_dirty && lethal_[s] != was_lethal) change_points.push_back(store_.centroid(s));
     }
     for (Slot s : reobserved) {
       if (mark_[s] == epoch) continue;
       const char was_lethal = lethal_[s];
       lethal_[s] = isLethal(s);
-      if (lethal_[s] != was_lethal) change_points.push_back(store_.face(s).centroid_L);
+      if (lethal_[s] != was_lethal) change_points.push_back(store_.centroid(s));
       markDirty(s);
     }
 
     // Inflation: every face within the inflation radius of a change may have a new distance.
-    std::vector<Slot> region = localInflation(change_points);
+    const std::vector<Slot>& region = localInflation(change_points);
     const std::uint32_t finish_epoch = nextEpoch();
     std::size_t recomputed = 0;
-    for (const std::vector<Slot>* list : {&dirty, &region}) {
+    for (const std::vector<Slot>* list : {static_cast<const std::vector<Slot>*>(&dirty), &region}) {
       for (Slot s : *list) {
         if (mark_[s] == finish_epoch || !store_.face(s).alive) continue;
         mark_[s] = finish_epoch;
@@ -287,6 +324,7 @@ class TraversabilityMap::Impl {
     distance_.resize(store_.slotCount(), kInf);
     lethal_.resize(store_.slotCount(), 0);
     mark_.resize(store_.slotCount(), 0);
+    window_.resize(store_.slotCount());
   }
 
   std::uint32_t nextEpoch() {
@@ -315,10 +353,18 @@ class TraversabilityMap::Impl {
     computer_.classify(f);
   }
 
-  double edgeM(Slot a, Slot b) const { return (store_.face(a).centroid_L - store_.face(b).centroid_L).norm(); }
+  double edgeM(Slot a, Slot b) const { return (store_.centroid(a) - store_.centroid(b)).norm(); }
 
   using QueueEntry = std::pair<double, Slot>;
-  using Queue = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>>;
+  /// A min-heap whose storage can be taken back (to reuse its memory).
+  struct Queue : std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> {
+    using Base = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>>;
+    Queue() = default;
+    Queue(const std::greater<QueueEntry>& less, std::vector<QueueEntry>&& storage) : Base(less, std::move(storage)) {
+      c.clear();
+    }
+    std::vector<QueueEntry> storage() && { return std::move(c); }
+  };
 
   /// Dijkstra from the queue, relaxing only faces for which `inside` holds; distances beyond the
   /// inflation radius are not kept.
@@ -355,20 +401,22 @@ class TraversabilityMap::Impl {
 
   /// Recomputes the distances of the faces within the inflation radius (straight-line, a lower
   /// bound of the geodesic one) of a change, seeded by their lethal faces and by the unchanged
-  /// distances of the faces around them. Returns the faces recomputed.
-  std::vector<Slot> localInflation(const std::vector<Eigen::Vector3d>& change_points) {
+  /// distances of the faces around them. Returns the faces recomputed (a member, valid until the
+  /// next call).
+  const std::vector<Slot>& localInflation(const std::vector<Eigen::Vector3d>& change_points) {
     const double r = profile_.inflation_radius_m * (1 + 1e-9) + 1e-9;
     const std::uint32_t epoch = nextEpoch();
-    std::vector<Slot> region;
+    std::vector<Slot>& region = region_;
+    region.clear();
     for (const Eigen::Vector3d& p : change_points) {
       const Eigen::Vector2d h = p.head<2>(), rr(r, r);
-      store_.forEachInBox(h - rr, h + rr, [&](Slot s) {
-        if (mark_[s] == epoch || (store_.face(s).centroid_L - p).norm() > r) return;
+      store_.forEachCentroidInBox(h - rr, h + rr, [&](Slot s) {
+        if (mark_[s] == epoch || (store_.centroid(s) - p).norm() > r) return;
         mark_[s] = epoch;
         region.push_back(s);
       });
     }
-    Queue queue;
+    Queue queue(std::greater<QueueEntry>(), std::move(queue_storage_));
     for (Slot s : region) distance_[s] = kInf;
     for (Slot s : region) {
       if (lethal_[s]) {
@@ -385,6 +433,7 @@ class TraversabilityMap::Impl {
       if (std::isfinite(distance_[s])) queue.emplace(distance_[s], s);
     }
     dijkstra(queue, [&](Slot t) { return mark_[t] == epoch; });
+    queue_storage_ = std::move(queue).storage();
     return region;
   }
 
@@ -396,7 +445,15 @@ class TraversabilityMap::Impl {
   std::vector<char> lethal_;      ///< per slot
   std::vector<std::uint32_t> mark_;
   std::uint32_t epoch_ = 0;
+  /// Per slot, the height window of the face's ground candidates (LayerComputer::groundWindow).
+  std::vector<internal::LayerComputer::GroundWindow> window_;
   std::vector<Slot> scratch_;
+  // Scratch of apply(), kept to reuse their memory.
+  std::vector<Eigen::Vector3d> change_points_;
+  std::vector<Change> changed_;
+  std::vector<Slot> reobserved_, added_, dirty_, region_;
+  std::unordered_set<mesher::FaceKey> unchanged_;
+  std::vector<QueueEntry> queue_storage_;
 };
 
 TraversabilityMap::TraversabilityMap(const RobotProfile& profile, const MapFrame& frame) {
