@@ -6,16 +6,24 @@
 # table; then the road under the camera path on real KITTI 00 (ORB-SLAM, 16.589 m per unit).
 # Expects a Release build in build/ (or TERRAMESH_BUILD=dir) and ../shared/ beside the
 # repository. Writes under out/traversability_f1/ (or TERRAMESH_F1_OUT); with TERRAMESH_REUSE=1,
-# scenes and maps already there are not made again (only scored).
+# scenes and maps already there are not made again (only scored). TERRAMESH_F1_SCENES and
+# TERRAMESH_F1_ROBOTS (space-separated names) restrict the run, e.g. to split it over two
+# processes; TERRAMESH_F1_KITTI=0 skips KITTI 00.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 terramesh=${TERRAMESH_BUILD:-build}/apps/terramesh/terramesh
 shared=${TERRAMESH_SHARED_DIR:-../shared}
 out=${TERRAMESH_F1_OUT:-out/traversability_f1}
 mkdir -p "$out"
-robots=(traversability/robots/*.yaml)
-if [[ ! -e "${robots[0]}" ]]; then
-  echo "no robot profiles in traversability/robots/" >&2
+scenes=(${TERRAMESH_F1_SCENES:-street offroad garage})
+robots=()
+for robot_file in traversability/robots/*.yaml; do
+  if [[ -z ${TERRAMESH_F1_ROBOTS:-} || " $TERRAMESH_F1_ROBOTS " == *" $(basename "$robot_file" .yaml) "* ]]; then
+    robots+=("$robot_file")
+  fi
+done
+if [[ ${#robots[@]} == 0 || ! -e "${robots[0]}" ]]; then
+  echo "no robot profiles in traversability/robots/ (or none named in TERRAMESH_F1_ROBOTS)" >&2
   exit 1
 fi
 
@@ -51,7 +59,7 @@ echo "## Synthetic scenes (seed 1): map faces within 0.5 m of the truth"
 echo
 echo "| scene | robot | precision | recall | F1 | coverage | unknown fraction | scored m2 | truth traversable m2 |"
 echo "|---|---|---|---|---|---|---|---|---|"
-for scene in street offroad garage; do
+for scene in "${scenes[@]}"; do
   [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$out/$scene/ground_truth.ply" ]] || "$terramesh" generate "$scene" -o "$out/$scene" --seed 1 --quiet
   for robot_file in "${robots[@]}"; do
     robot=$(basename "$robot_file" .yaml)
@@ -66,12 +74,14 @@ done
 echo
 echo "Per-label map area (nearest truth label) and its free / lethal / unknown shares:"
 echo
-for scene in street offroad garage; do
+for scene in "${scenes[@]}"; do
   for robot_file in "${robots[@]}"; do
     robot=$(basename "$robot_file" .yaml)
     echo "- $scene / $robot: $(labels "$out/${scene}_$robot.txt")"
   done
 done
+
+if [[ ${TERRAMESH_F1_KITTI:-1} == 0 ]]; then exit 0; fi
 
 # KITTI 00: the road under the ORB-SLAM keyframe path, 1.65 m below the camera, 1.5 m each side.
 echo
