@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <queue>
 #include <random>
 #include <sstream>
@@ -268,6 +269,8 @@ PlanningOutcome planComparePairs(const traversability::LayeredMesh& map, const s
   planning::PlannerConfig config;
   config.planner = "rrtstar";  // not used by the graph baseline; validated all the same
   config.snap_radius_m = snap_radius_m;
+  std::optional<planning::demo::TruthChecker> checker;
+  if (truth.mesh && truth.bvh) checker.emplace(*truth.mesh, *truth.bvh);
   double length = 0, cost = 0, ratio = 0;
   std::size_t ratios = 0;
   for (const ComparePair& pair : pairs) {
@@ -283,11 +286,11 @@ PlanningOutcome planComparePairs(const traversability::LayeredMesh& map, const s
           ratio += result.length_m / pair.truth_length_m;
           ++ratios;
         }
-        if (truth.mesh && truth.bvh) {
+        if (checker) {
           std::vector<Eigen::Vector3d> path;
           for (const planning::PathState& state : result.states) path.push_back(state.location.point_W);
-          const planning::demo::TruthCheck check = planning::demo::checkAgainstTruth(
-              *truth.mesh, *truth.bvh, path, truth.up_W, graph.metresPerUnit(), truthCheckConfig(truth));
+          const planning::demo::TruthCheck check =
+              checker->check(path, truth.up_W, graph.metresPerUnit(), truthCheckConfig(truth));
           ++outcome.truth_checked;
           outcome.truth_valid += check.valid ? 1 : 0;
           outcome.truth_reasons.back() = check.reason;

@@ -186,6 +186,8 @@ int run(const Options& options) {
   truth_config.max_step_m = map.profile.max_step_m;
   truth_config.min_clearance_m = map.profile.min_clearance_m;
   truth_config.max_slope_deg = map.profile.max_slope_deg;
+  std::optional<planning::demo::TruthChecker> checker;
+  if (has_truth) checker.emplace(truth, bvh);
 
   planning::PlannerConfig config;
   config.planner = options.planner;
@@ -230,7 +232,7 @@ int run(const Options& options) {
                     const std::string& reason) {
     const bool checked = solved && has_truth;
     const planning::demo::TruthCheck check =
-        checked ? planning::demo::checkAgainstTruth(truth, bvh, path, map.map.up_W, map.map.metres_per_unit, truth_config)
+        checked ? checker->check(path, map.map.up_W, map.map.metres_per_unit, truth_config)
                 : planning::demo::TruthCheck{};
     tally.add(solved, length, cost, time, check.valid, checked);
     row(i, type, status, length, cost, time, check, checked, reason);

@@ -35,21 +35,23 @@ std::string label(const datasets::LabeledMesh& truth, std::uint32_t face) {
   return std::string(datasets::toString(truth.labels[face]));
 }
 
-/// The true faces a robot must not touch, with their indices in the truth.
-struct Obstacles {
-  mesher::TriangleMesh mesh;
-  std::vector<std::uint32_t> truth_face;
-};
-
-Obstacles nonDrivable(const datasets::LabeledMesh& truth) {
-  Obstacles obstacles;
-  obstacles.mesh.vertices = truth.mesh.vertices;
+/// The indices of the true faces a robot must not touch, after checking the truth's labels.
+std::vector<std::uint32_t> nonDrivableFaces(const datasets::LabeledMesh& truth) {
+  truth.validate();
+  std::vector<std::uint32_t> faces;
   for (std::uint32_t f = 0; f < truth.mesh.faces.size(); ++f) {
-    if (drivable(truth.labels[f])) continue;
-    obstacles.mesh.faces.push_back(truth.mesh.faces[f]);
-    obstacles.truth_face.push_back(f);
+    if (!drivable(truth.labels[f])) faces.push_back(f);
   }
-  return obstacles;
+  return faces;
+}
+
+/// The faces `faces` of `mesh`, over all of its vertices.
+mesher::TriangleMesh subMesh(const mesher::TriangleMesh& mesh, const std::vector<std::uint32_t>& faces) {
+  mesher::TriangleMesh sub;
+  sub.vertices = mesh.vertices;
+  sub.faces.reserve(faces.size());
+  for (const std::uint32_t f : faces) sub.faces.push_back(mesh.faces[f]);
+  return sub;
 }
 
 /// The true surface nearest to `p` along the vertical, within `range` (map units) above or
@@ -104,16 +106,29 @@ void TruthCheckConfig::validate() const {
   if (!text.empty()) throw std::invalid_argument("TruthCheckConfig: " + text.substr(0, text.size() - 2));
 }
 
+TruthChecker::TruthChecker(const datasets::LabeledMesh& truth, const datasets::TriangleBvh& bvh)
+    : truth_(truth),
+      bvh_(bvh),
+      obstacle_truth_face_(nonDrivableFaces(truth)),
+      obstacle_bvh_(subMesh(truth.mesh, obstacle_truth_face_)) {}
+
 TruthCheck checkAgainstTruth(const datasets::LabeledMesh& truth, const datasets::TriangleBvh& bvh,
                              const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W,
                              double metres_per_unit, const TruthCheckConfig& config) {
+  config.validate();  // before the tree is built: a bad config fails fast
+  return TruthChecker(truth, bvh).check(path_W, up_W, metres_per_unit, config);
+}
+
+TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W,
+                               double metres_per_unit, const TruthCheckConfig& config) const {
+  const datasets::LabeledMesh& truth = truth_;
+  const datasets::TriangleBvh& bvh = bvh_;
   config.validate();
   if (!(metres_per_unit > 0.0) || !std::isfinite(metres_per_unit)) {
-    throw std::invalid_argument("checkAgainstTruth: metres_per_unit " + std::to_string(metres_per_unit) +
+    throw std::invalid_argument("TruthChecker::check: metres_per_unit " + std::to_string(metres_per_unit) +
                                 " (expected > 0)");
   }
-  if (!(up_W.norm() > 0.0) || !up_W.allFinite()) throw std::invalid_argument("checkAgainstTruth: up_W is zero");
-  truth.validate();
+  if (!(up_W.norm() > 0.0) || !up_W.allFinite()) throw std::invalid_argument("TruthChecker::check: up_W is zero");
 
   TruthCheck check;
   const Eigen::Vector3d up = up_W.normalized();
@@ -130,8 +145,7 @@ TruthCheck checkAgainstTruth(const datasets::LabeledMesh& truth, const datasets:
   check.samples = samples.size();
   if (samples.empty()) return check;
 
-  const Obstacles obstacles = nonDrivable(truth);
-  const datasets::TriangleBvh obstacle_bvh(obstacles.mesh);
+  const datasets::TriangleBvh& obstacle_bvh = obstacle_bvh_;
   const double radius_m = config.footprint_radius_m;
   const int slices =
       1 + static_cast<int>(std::ceil((config.min_clearance_m - config.max_step_m) / config.body_slice_m - 1e-9));
@@ -181,7 +195,7 @@ TruthCheck checkAgainstTruth(const datasets::LabeledMesh& truth, const datasets:
         const double height_m = d.dot(up) * metres_per_unit;
         const double across_m = (d - d.dot(up) * up).norm() * metres_per_unit;
         if (height_m > config.max_step_m && height_m < config.min_clearance_m && across_m < radius_m) {
-          return fail(check, "true " + label(truth, obstacles.truth_face[q.face]) + " face " + metres(across_m) +
+          return fail(check, "true " + label(truth, obstacle_truth_face_[q.face]) + " face " + metres(across_m) +
                                  " from the path at " + at(p) + ", inside the " + metres(radius_m) +
                                  " footprint by " + metres(radius_m - across_m) + ", " + metres(height_m) +
                                  " above the true ground (body from " + metres(config.max_step_m) + " to " +

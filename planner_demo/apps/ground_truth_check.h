@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -52,28 +53,49 @@ struct TruthCheck {
   double max_ground_offset_m = 0.0;
 };
 
-/// Samples the polyline every `config.spacing_m` and checks, at each sample p, in this order:
-/// 1. ground: the true surface nearest to p along the vertical (rays up and down from p) lies
-///    within `vertical_tolerance_m` of p;
-/// 2. label: that face is drivable (road, sidewalk, curb, vegetation or ramp; not wall, obstacle
-///    or ceiling);
-/// 3. slope: its true slope is <= `max_slope_deg`;
-/// 4. body: no non-drivable true face (wall, obstacle, ceiling) enters the vertical cylinder of
-///    radius `footprint_radius_m` around p between `max_step_m` and `min_clearance_m` above that
-///    true ground point g. Tested in slices `body_slice_m` apart: for each slice centre c on the
-///    axis, the non-drivable surface point q nearest to c (TriangleBvh::closestPoint on those
-///    faces only) fails the path if it lies in the cylinder. Any non-drivable point in a slice
-///    is within hypot(r, slice / 2) of c, so a face in the body is missed only when another
-///    non-drivable point outside the body is nearer to every slice centre: in the rim between r
-///    and hypot(r, slice / 2) (0.9 mm for r = 0.34 m), or below the step height / above the
-///    clearance;
-/// 5. crossing: the segment from the previous sample to p, lifted by `crossing_lift_m`, does not
-///    cross the true surface (driving through a wall, a car, a rock).
-/// Stops at the first failure. `path_W` and the truth share a frame and its units;
-/// `metres_per_unit` converts. `bvh` is built over `truth.mesh`. An empty path is valid.
-/// Builds a tree over the non-drivable faces on each call (O(F log F)).
-/// @throw std::invalid_argument if `config` is invalid, `metres_per_unit` <= 0 or `up_W` is zero,
-///        or the truth has no label per face.
+/// Checks paths against one truth. Holds a tree over the truth's non-drivable faces, built once
+/// (O(F log F)), so checking many paths costs only the queries. Keeps references to `truth` and
+/// `bvh`: both must outlive the checker.
+class TruthChecker {
+ public:
+  /// `bvh` is built over `truth.mesh`.
+  /// @throw std::invalid_argument if the truth has no label per face.
+  TruthChecker(const datasets::LabeledMesh& truth, const datasets::TriangleBvh& bvh);
+
+  /// Samples the polyline every `config.spacing_m` and checks, at each sample p, in this order:
+  /// 1. ground: the true surface nearest to p along the vertical (rays up and down from p) lies
+  ///    within `vertical_tolerance_m` of p;
+  /// 2. label: that face is drivable (road, sidewalk, curb, vegetation or ramp; not wall, obstacle
+  ///    or ceiling);
+  /// 3. slope: its true slope is <= `max_slope_deg`;
+  /// 4. body: no non-drivable true face (wall, obstacle, ceiling) enters the vertical cylinder of
+  ///    radius `footprint_radius_m` around p between `max_step_m` and `min_clearance_m` above that
+  ///    true ground point g. Tested in slices `body_slice_m` apart: for each slice centre c on the
+  ///    axis, the non-drivable surface point q nearest to c (TriangleBvh::closestPoint on those
+  ///    faces only) fails the path if it lies in the cylinder. Any non-drivable point in a slice
+  ///    is within hypot(r, slice / 2) of c, so a face in the body is missed only when another
+  ///    non-drivable point outside the body is nearer to every slice centre: in the rim between r
+  ///    and hypot(r, slice / 2) (0.9 mm for r = 0.34 m), or below the step height / above the
+  ///    clearance;
+  /// 5. crossing: the segment from the previous sample to p, lifted by `crossing_lift_m`, does not
+  ///    cross the true surface (driving through a wall, a car, a rock).
+  /// Stops at the first failure. `path_W` and the truth share a frame and its units;
+  /// `metres_per_unit` converts. An empty path is valid.
+  /// @throw std::invalid_argument if `config` is invalid, `metres_per_unit` <= 0 or `up_W` is zero.
+  TruthCheck check(const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W, double metres_per_unit,
+                   const TruthCheckConfig& config) const;
+
+ private:
+  const datasets::LabeledMesh& truth_;
+  const datasets::TriangleBvh& bvh_;
+  /// Index in the truth of each face of `obstacle_bvh_`.
+  std::vector<std::uint32_t> obstacle_truth_face_;
+  datasets::TriangleBvh obstacle_bvh_;
+};
+
+/// One path against the truth: TruthChecker(truth, bvh).check(...), which builds the tree over
+/// the non-drivable faces again on each call; use a TruthChecker for many paths.
+/// @throw std::invalid_argument as TruthChecker's constructor and check().
 TruthCheck checkAgainstTruth(const datasets::LabeledMesh& truth, const datasets::TriangleBvh& bvh,
                              const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W,
                              double metres_per_unit, const TruthCheckConfig& config);

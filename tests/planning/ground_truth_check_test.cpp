@@ -1,4 +1,4 @@
-// planner_demo's checkAgainstTruth on analytic truth meshes: a ground plane, a wall, a low ceiling
+// planner_demo's checkAgainstTruth and TruthChecker on analytic truth meshes: a ground plane, a wall, a low ceiling
 // and a step, each with a path that must pass and its twin that must fail.
 
 #include <gmock/gmock.h>
@@ -31,6 +31,7 @@ class Truth {
   Truth& wallAlongY(double x, double y0, double y1, double z0, double z1, SurfaceLabel label) {
     return quad({x, y0, z0}, {x, y1, z0}, {x, y1, z1}, {x, y0, z1}, label, 90.0f);
   }
+  const datasets::LabeledMesh& labeled() const { return mesh_; }
   TruthCheck check(const std::vector<Vector3d>& path, const TruthCheckConfig& config) const {
     const datasets::TriangleBvh bvh(mesh_.mesh);
     return checkAgainstTruth(mesh_, bvh, path, Vector3d::UnitZ(), 1.0, config);
@@ -218,6 +219,41 @@ TEST(GroundTruthCheck, ValidateReportsEveryProblem) {
   Truth truth;
   truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
   EXPECT_THROW(truth.check(alongX(0.0, 0.0), config), std::invalid_argument);
+}
+
+TEST(GroundTruthCheck, OneCheckerJudgesManyPathsAsSeparateChecksDo) {
+  // The checker builds its obstacle tree once; nothing of one check may leak into the next.
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kSidewalk).wallAlongX(1.0, -5, 5, 0.0, 2.0, SurfaceLabel::kWall);
+  const datasets::TriangleBvh bvh(truth.labeled().mesh);
+  const TruthChecker checker(truth.labeled(), bvh);
+  TruthCheckConfig narrow = smallWheeled();
+  narrow.footprint_radius_m = 0.15;
+  const std::vector<std::vector<Vector3d>> paths = {alongX(0.8, 0.0), alongX(0.5, 0.0), alongX(0.8, 0.0),
+                                                    alongX(0.0, 0.5), alongX(0.5, 0.0)};
+  for (const TruthCheckConfig& config : {smallWheeled(), narrow}) {
+    for (const std::vector<Vector3d>& path : paths) {
+      const TruthCheck once = truth.check(path, config);
+      const TruthCheck reused = checker.check(path, Vector3d::UnitZ(), 1.0, config);
+      EXPECT_EQ(reused.valid, once.valid) << once.reason;
+      EXPECT_EQ(reused.reason, once.reason);
+      EXPECT_EQ(reused.samples, once.samples);
+      EXPECT_EQ(reused.max_ground_offset_m, once.max_ground_offset_m);
+    }
+  }
+  // And the answers are the ones the single-path tests above expect.
+  EXPECT_FALSE(checker.check(alongX(0.8, 0.0), Vector3d::UnitZ(), 1.0, smallWheeled()).valid);
+  EXPECT_TRUE(checker.check(alongX(0.5, 0.0), Vector3d::UnitZ(), 1.0, smallWheeled()).valid);
+  EXPECT_TRUE(checker.check(alongX(0.8, 0.0), Vector3d::UnitZ(), 1.0, narrow).valid);
+}
+
+TEST(GroundTruthCheck, CheckerRefusesATruthWithoutLabels) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
+  datasets::LabeledMesh unlabeled = truth.labeled();
+  unlabeled.labels.pop_back();
+  const datasets::TriangleBvh bvh(unlabeled.mesh);
+  EXPECT_THROW(TruthChecker(unlabeled, bvh), std::invalid_argument);
 }
 
 }  // namespace
