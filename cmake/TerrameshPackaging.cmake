@@ -28,5 +28,5 @@ set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS
   "libeigen3-dev (>= 3.3), libcgal-dev, libgmp-dev, libmpfr-dev, nlohmann-json3-dev (>= 3.10), \
-libyaml-cpp-dev, libgdal-dev, libompl-dev, liboctomap-dev, libembree-dev, libnanoflann-dev")
+libyaml-cpp-dev, libgdal-dev, libompl-dev, liboctomap-dev, libembree-dev, libnanoflann-dev, robin-map-dev")
 include(CPack)

@@ -7,7 +7,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev nlohmann-json3-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev libgdal-dev gdal-bin libompl-dev ompl-demos liboctomap-dev libpcl-dev
-  libcli11-dev libcpp-httplib-dev libnanoflann-dev libembree-dev python3-numpy python3-matplotlib python3-yaml ccache
+  libcli11-dev libcpp-httplib-dev libnanoflann-dev libembree-dev robin-map-dev python3-numpy python3-matplotlib python3-yaml ccache
   chromium
   clang libclang-rt-dev
 )

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <Eigen/Geometry>
 
 namespace terramesh::traversability::internal {
@@ -26,6 +27,8 @@ SurfaceStore::CellKey SurfaceStore::cellKey(std::int64_t i, std::int64_t j) cons
 
 Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   remove(input.key);
+  // Slots share their grid entries with two flag bits.
+  if (free_slots_.empty() && faces_.size() > kSlotMask) throw std::length_error("SurfaceStore: too many faces");
   Slot s;
   if (!free_slots_.empty()) {
     s = free_slots_.back();
@@ -126,8 +129,6 @@ void SurfaceStore::clear() {
   by_vertex_.clear();
   grid_.clear();
   centroid_grid_.clear();
-  marks_.clear();
-  epoch_ = 0;
 }
 
 std::optional<Slot> SurfaceStore::find(const mesher::FaceKey& key) const {
@@ -139,9 +140,10 @@ std::optional<Slot> SurfaceStore::find(const mesher::FaceKey& key) const {
 void SurfaceStore::link(Slot s) {
   const StoredFace& f = faces_[s];
   for (const auto& v : f.vertices) by_vertex_[v].push_back(s);
-  for (std::int64_t i = cellIndex(f.box_min.x()); i <= cellIndex(f.box_max.x()); ++i) {
-    for (std::int64_t j = cellIndex(f.box_min.y()); j <= cellIndex(f.box_max.y()); ++j) {
-      grid_[cellKey(i, j)].push_back(s);
+  const std::int64_t i0 = cellIndex(f.box_min.x()), j0 = cellIndex(f.box_min.y());
+  for (std::int64_t i = i0; i <= cellIndex(f.box_max.x()); ++i) {
+    for (std::int64_t j = j0; j <= cellIndex(f.box_max.y()); ++j) {
+      grid_[cellKey(i, j)].push_back(s | (i == i0 ? 0u : kNotFirstColumn) | (j == j0 ? 0u : kNotFirstRow));
     }
   }
   centroid_grid_[centroidCellKey(f.centroid_L)].push_back(s);
@@ -156,20 +158,27 @@ void SurfaceStore::unlink(Slot s) {
       list.pop_back();
     }
   };
+  const auto eraseEntry = [s](std::vector<GridEntry>& list) {
+    const auto it = std::find_if(list.begin(), list.end(), [s](GridEntry e) { return (e & kSlotMask) == s; });
+    if (it != list.end()) {
+      *it = list.back();
+      list.pop_back();
+    }
+  };
   for (const auto& v : f.vertices) {
     const auto it = by_vertex_.find(v);
     if (it == by_vertex_.end()) continue;
-    erase(it->second);
+    erase(it.value());
     if (it->second.empty()) by_vertex_.erase(it);
   }
   for (std::int64_t i = cellIndex(f.box_min.x()); i <= cellIndex(f.box_max.x()); ++i) {
     for (std::int64_t j = cellIndex(f.box_min.y()); j <= cellIndex(f.box_max.y()); ++j) {
       const auto it = grid_.find(cellKey(i, j));
-      if (it != grid_.end()) erase(it->second);
+      if (it != grid_.end()) eraseEntry(it.value());
     }
   }
   const auto it = centroid_grid_.find(centroidCellKey(f.centroid_L));
-  if (it != centroid_grid_.end()) erase(it->second);
+  if (it != centroid_grid_.end()) erase(it.value());
 }
 
 void SurfaceStore::neighbours(Slot s, std::vector<Slot>& out) const {

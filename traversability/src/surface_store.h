@@ -6,8 +6,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
-#include <unordered_map>
+#include <tsl/robin_map.h>
 #include <vector>
 
 #include "mesher/surface_delta.h"
@@ -88,10 +89,30 @@ struct SampleGeometry {
   }
 };
 
+/// std::hash remixed by murmur3's 64-bit finaliser. tsl::robin_map keeps power-of-two tables and
+/// starts probing at the hash's low bits, which std::hash<std::uint64_t> (the identity on
+/// libstdc++) leaves patterned for packed grid coordinates.
+template <class Key>
+struct MixedHash {
+  std::size_t operator()(const Key& key) const noexcept {
+    std::uint64_t h = static_cast<std::uint64_t>(std::hash<Key>{}(key));
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+/// The store's indexes: open addressing (Debian's robin-map-dev), no node per entry.
+template <class Key, class Value>
+using HashMap = tsl::robin_map<Key, Value, MixedHash<Key>>;
+
 /// Faces by key, vertex and horizontal grid cell. Each face is registered in every grid cell its
 /// horizontal bounding box overlaps, so point queries see large faces too, and in the one cell of
-/// a second grid that holds its centroid (for "faces whose centroid is near" queries). Not thread-safe (the
-/// queries use scratch marks).
+/// a second grid that holds its centroid (for "faces whose centroid is near" queries). The
+/// queries are const and keep no scratch state; add and remove are not thread-safe.
 class SurfaceStore {
  public:
   /// @param R_L_W rotation taking map-frame directions to L (up_W -> +z).
@@ -100,6 +121,7 @@ class SurfaceStore {
   SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m, double centroid_cell_m);
 
   /// Adds a face, replacing one with the same key. Returns its slot.
+  /// @throw std::length_error if 2^30 slots are in use.
   Slot add(const mesher::SurfaceFace& face);
   /// Removes the face with this key; false if unknown.
   bool remove(const mesher::FaceKey& key);
@@ -137,6 +159,12 @@ class SurfaceStore {
 
  private:
   using CellKey = std::uint64_t;
+  /// An entry of a cell list of grid_: the slot, and whether the cell is not in the first column
+  /// or not in the first row of the cells the face's box overlaps (forEachInBox's deduplication).
+  using GridEntry = std::uint32_t;
+  static constexpr GridEntry kNotFirstColumn = 1u << 31;
+  static constexpr GridEntry kNotFirstRow = 1u << 30;
+  static constexpr GridEntry kSlotMask = kNotFirstRow - 1;
   CellKey cellKey(std::int64_t i, std::int64_t j) const;
   std::int64_t cellIndex(double v) const;
   std::int64_t centroidCellIndex(double v) const;
@@ -154,16 +182,14 @@ class SurfaceStore {
   std::vector<SampleGeometry> geometry_;
   std::vector<Eigen::Vector3d> centroids_;
   std::vector<Slot> free_slots_;
-  std::unordered_map<mesher::FaceKey, Slot> by_key_;
-  std::unordered_map<mesher::VertexKey, std::vector<Slot>> by_vertex_;
+  HashMap<mesher::FaceKey, Slot> by_key_;
+  HashMap<mesher::VertexKey, std::vector<Slot>> by_vertex_;
   double centroid_cell_m_;
   /// Faces by the cell of their centroid (cells are kept when they empty, as in grid_).
-  std::unordered_map<CellKey, std::vector<Slot>> centroid_grid_;
+  HashMap<CellKey, std::vector<Slot>> centroid_grid_;
   /// Cells are kept when they empty (their lists are reused: no allocation churn); the number of
   /// cells is bounded by the area ever mapped.
-  std::unordered_map<CellKey, std::vector<Slot>> grid_;
-  mutable std::vector<std::uint32_t> marks_;
-  mutable std::uint32_t epoch_ = 0;
+  HashMap<CellKey, std::vector<GridEntry>> grid_;
 };
 
 inline std::optional<double> StoredFace::heightAt(double x, double y) const {
@@ -180,21 +206,20 @@ inline std::optional<double> StoredFace::heightAt(double x, double y) const {
 
 template <class F>
 void SurfaceStore::forEachInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, F&& f) const {
-  if (++epoch_ == 0) {
-    std::fill(marks_.begin(), marks_.end(), 0u);
-    epoch_ = 1;
-  }
-  if (marks_.size() < faces_.size()) marks_.resize(faces_.size(), 0u);
   const std::int64_t i0 = cellIndex(lo.x()), i1 = cellIndex(hi.x());
   const std::int64_t j0 = cellIndex(lo.y()), j1 = cellIndex(hi.y());
   for (std::int64_t i = i0; i <= i1; ++i) {
     for (std::int64_t j = j0; j <= j1; ++j) {
       const auto it = grid_.find(cellKey(i, j));
       if (it == grid_.end()) continue;
-      for (Slot s : it->second) {
-        if (marks_[s] == epoch_) continue;
-        marks_[s] = epoch_;
-        f(s);
+      const std::vector<GridEntry>* list = &it->second;
+      // A face is reported in the first cell (i, then j) of the query that it overlaps: the cell
+      // of the query's first column or of the face's first column, and likewise for rows. This
+      // is where a scan with "seen" marks would report it, in the same order, without the marks.
+      const GridEntry skip = (i == i0 ? 0u : kNotFirstColumn) | (j == j0 ? 0u : kNotFirstRow);
+      for (const GridEntry e : *list) {
+        if (e & skip) continue;
+        f(static_cast<Slot>(e & kSlotMask));
       }
     }
   }
@@ -217,7 +242,7 @@ template <class F>
 void SurfaceStore::forEachAt(double x, double y, F&& f) const {
   const auto it = grid_.find(cellKey(cellIndex(x), cellIndex(y)));
   if (it == grid_.end()) return;
-  for (Slot s : it->second) f(s);
+  for (const GridEntry e : it->second) f(static_cast<Slot>(e & kSlotMask));
 }
 
 }  // namespace terramesh::traversability::internal
