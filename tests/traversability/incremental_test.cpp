@@ -275,6 +275,109 @@ TEST(IncrementalTest, ChangesOutsideAFacesHeightWindowDoNotRecomputeIt) {
   EXPECT_GT(lethal, 0u) << "the bump's rim must be lethal for the inflation to be exercised";
 }
 
+/// The faces of `mesh` with vertex keys first_vertex + index (Steiner keys if `steiner`).
+std::vector<SurfaceFace> surfaceFaces(const mesher::TriangleMesh& mesh, std::uint32_t first_vertex, bool steiner) {
+  std::vector<SurfaceFace> faces;
+  for (const auto& t : mesh.faces) {
+    SurfaceFace face;
+    for (int i = 0; i < 3; ++i) {
+      face.vertices[i] = mesher::VertexKey{first_vertex + t[i], steiner};
+      face.positions_W[i] = mesh.vertices[t[i]];
+    }
+    face.key = FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
+    face.touches_steiner = steiner;
+    face.rays = steiner ? 0 : 5;
+    faces.push_back(face);
+  }
+  return faces;
+}
+
+TEST(IncrementalTest, WallsAppearingMovingAndVanishingEqualFullRecomputation) {
+  // Vertical walls (faces heightAt cannot sample, never ground) are obstacles inside the footprint
+  // of the floor faces around them: adding, moving, lowering and removing one must recompute
+  // exactly the floor faces whose footprint it enters or leaves. A Steiner wall is no obstacle.
+  // On the 1.5 m grid every floor face is larger than both footprints and judged at several points
+  // (up to the footprint's radius from its centroid): the walls reach farther.
+  for (const double spacing : {0.25, 1.5}) {
+    for (const char* robot : {"small_wheeled", "legged"}) {
+      const bool fine = spacing < 1;
+      const RobotProfile profile = loadRobotProfile(kRobots / (std::string(robot) + ".yaml"));
+      FaceMap faces;
+      const double half = fine ? 3 : 6;
+      for (const SurfaceFace& f :
+           surfaceFaces(test::heightFieldMesh(-half, half, -half, half, spacing, [](double, double) { return 0.0; }), 0,
+                        false)) {
+        faces.emplace(f.key, f);
+      }
+      TraversabilityMap map(profile, MapFrame{});
+      map.reset(facesOf(faces));
+      // Each step replaces the faces of wall `id` (keys from vertex 100000 + 100 id) by `mesh`.
+      std::map<int, std::vector<FaceKey>> walls;
+      const auto setWall = [&](int id, const mesher::TriangleMesh& mesh, bool steiner) {
+        mesher::SurfaceDelta delta;
+        delta.complete = true;
+        for (const FaceKey& key : walls[id]) {
+          delta.removed.push_back(key);
+          faces.erase(key);
+        }
+        walls[id].clear();
+        for (const SurfaceFace& f : surfaceFaces(mesh, 100000 + 100 * static_cast<std::uint32_t>(id), steiner)) {
+          delta.added.push_back(f);
+          faces.emplace(f.key, f);
+          walls[id].push_back(f.key);
+        }
+        return map.apply(delta, {});
+      };
+      const auto expectEqualsFull = [&](const std::string& what) {
+        TraversabilityMap fresh(profile, MapFrame{});
+        fresh.reset(facesOf(faces));
+        const LayeredMesh expected = fresh.snapshot();
+        EXPECT_TRUE(sameLayers(map.snapshot(), expected)) << robot << ": " << what;
+        std::size_t lethal_floor = 0;
+        for (std::size_t f = 0; f < expected.layers.size(); ++f) {
+          const auto& t = expected.mesh.faces[f];
+          const bool floor = expected.mesh.vertices[t[0]].z() == 0 && expected.mesh.vertices[t[1]].z() == 0 &&
+                             expected.mesh.vertices[t[2]].z() == 0;
+          lethal_floor += floor && expected.layers[f].face_class == FaceClass::kLethal;
+        }
+        return lethal_floor;
+      };
+      // The floor's own border is lethal (the footprint hangs over the end): count relative to it.
+      const std::size_t border = expectEqualsFull("bare floor");
+      setWall(0, test::thinWall(0.1, -1, 0.1, 1, 0, 1.0), false);
+      const std::size_t with_wall = expectEqualsFull("wall added");
+      if (fine) {
+        EXPECT_GT(with_wall, border) << robot << ": the floor beside the wall is lethal";
+      }
+      setWall(1, test::thinWall(-1.3, -1, -1.3, 1, 0, 1.0), true);
+      expectEqualsFull("Steiner wall added");
+      setWall(0, test::thinWall(0.6, -1.2, 0.9, 1, 0, 1.0), false);
+      expectEqualsFull("wall moved");
+      setWall(0, test::thinWall(0.6, -1.2, 0.9, 1, 0, 0.1), false);
+      EXPECT_EQ(expectEqualsFull("wall lowered below max_step"), border) << robot;
+      setWall(1, test::thinWall(-1.3, -1, -1.3, 1, 0, 1.0), false);
+      const std::size_t measured = expectEqualsFull("Steiner wall measured");
+      if (fine) {
+        EXPECT_GT(measured, border) << robot;
+      }
+      // A wall between one and two radii from a large face blocked at its centroid by another
+      // changes how many of its points collide (on the coarse grid, small_wheeled: the faces with
+      // centroids at x = 1 collide with the first wall at 4 of their 9 points, free; with both at
+      // all 9, lethal).
+      setWall(0, test::thinWall(0.7, -2, 0.7, 2, 0, 1.0), false);
+      expectEqualsFull("wall 0.3 m from centroids");
+      setWall(2, test::thinWall(1.5, -2, 1.5, 2, 0, 1.0), false);
+      expectEqualsFull("second wall 0.5 m from them");
+      setWall(2, mesher::TriangleMesh{}, false);
+      expectEqualsFull("second wall removed");
+      setWall(2, mesher::TriangleMesh{}, false);
+      setWall(1, mesher::TriangleMesh{}, false);
+      setWall(0, mesher::TriangleMesh{}, false);
+      EXPECT_EQ(expectEqualsFull("walls removed"), border) << robot;
+    }
+  }
+}
+
 /// The scene's keyframes, then the same poses again in reverse order as new keyframes (a drive back
 /// over the same ground): the second pass re-observes the surface, so new rays end on existing
 /// vertices and cross the free cells in front of existing faces, changing the observation count of

@@ -1,6 +1,7 @@
 // Layers on small hand-made meshes whose geometry is exact.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <queue>
@@ -279,6 +280,175 @@ TEST(LayersTest, RectangleBesideALedgeFitsAlongItNotAcrossIt) {
   EXPECT_GT(at, 0u);
   EXPECT_GT(beside, 0u);
   EXPECT_GT(lost_contact, 0u);
+}
+
+/// Floor faces (level, at z = 0) whose centroid satisfies `pick`.
+template <class Pick>
+std::vector<std::size_t> floorFacesWhere(const LayeredMesh& map, Pick pick) {
+  return facesWhere(map, [&](const Eigen::Vector3d& c) { return std::abs(c.z()) < 1e-9 && pick(c); });
+}
+
+TEST(LayersTest, DiscRobotDoesNotFitBesideATallWallWithFloorOnBothSides) {
+  // A thin 2 m wall along x = 0 over a floor that continues on both sides: every footprint sample
+  // finds floor, but a 0.34 m disc centred closer than 0.34 m to the wall collides with it (the
+  // ground truth's rule: surface between max_step and the robot's height inside the footprint).
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  for (const double wall_m : {2.0, 0.3, 0.15}) {
+    for (const bool steiner_wall : {false, true}) {
+      mesher::TriangleMesh mesh = test::heightFieldMesh(-4, 4, -4, 4, 0.1, [](double, double) { return 0.0; });
+      const std::size_t floor_vertices = mesh.vertices.size();
+      test::appendMesh(mesh, test::thinWall(0, -2, 0, 2, 0, wall_m));
+      mesh.is_steiner.assign(mesh.vertices.size(), 0);
+      for (std::size_t v = floor_vertices; v < mesh.vertices.size(); ++v) mesh.is_steiner[v] = steiner_wall;
+      const LayeredMesh map = compute(mesh, profile);
+      // Taller than max_step (0.18 m): inside the body; a measured wall blocks, an invented one not.
+      const bool blocks = wall_m > profile.max_step_m && !steiner_wall;
+      std::size_t near = 0, far = 0;
+      for (std::size_t f : floorFacesWhere(map, [](const Eigen::Vector3d& c) { return std::abs(c.y()) < 1.5; })) {
+        const double x = std::abs(centroid(map, f).x());
+        const FaceLayers& l = map.layers[f];
+        if (x < r - 0.04) {
+          ++near;
+          EXPECT_EQ(l.face_class == FaceClass::kLethal, blocks)
+              << "wall " << wall_m << " m, steiner " << steiner_wall << ", face " << x << " m from it";
+          if (blocks) {
+            // The wall counts as a step of its height inside the body (capped at the robot's height).
+            EXPECT_NEAR(l.step_m, std::min(wall_m, profile.min_clearance_m), 1e-5) << "wall " << wall_m << " m";
+          }
+        } else if (x > r + 0.04 && x < 2.0) {
+          ++far;
+          EXPECT_EQ(l.face_class, FaceClass::kFree) << "wall " << wall_m << " m, face " << x << " m from it";
+        }
+      }
+      EXPECT_GT(near, 20u);
+      EXPECT_GT(far, 20u);
+    }
+  }
+}
+
+TEST(LayersTest, CarBetweenTwoWallsFitsOnlyAlongThem) {
+  // Thin 2 m walls along y = +-w/2 over a floor that continues beyond them: in a 2.4 m corridor
+  // the 4.8 x 1.8 m car fits only parallel to the walls, and only within 0.3 m of the middle; in
+  // a 1.7 m corridor it fits nowhere. Beside the corridor (outside), it fits along the wall.
+  const RobotProfile car = loadRobotProfile(kRobots / "car.yaml");
+  for (const double width : {2.4, 1.7}) {
+    mesher::TriangleMesh mesh = test::heightFieldMesh(-12, 12, -6, 6, 0.2, [](double, double) { return 0.0; });
+    test::appendMesh(mesh, test::thinWall(-10, 0.5 * width, 10, 0.5 * width, 0, 2));
+    test::appendMesh(mesh, test::thinWall(-10, -0.5 * width, 10, -0.5 * width, 0, 2));
+    const LayeredMesh map = compute(mesh, car);
+    std::size_t middle = 0, off_middle = 0, outside = 0;
+    for (std::size_t f : floorFacesWhere(map, [](const Eigen::Vector3d& c) { return std::abs(c.x()) < 3; })) {
+      const double y = std::abs(centroid(map, f).y());
+      const FaceLayers& l = map.layers[f];
+      if (y < 0.5 * width - 0.9 - 0.05) {
+        ++middle;
+        EXPECT_EQ(l.face_class, FaceClass::kFree) << "corridor " << width << " m, y " << y << ": fits along it";
+        EXPECT_EQ(l.contact_best, 1.0f);
+        EXPECT_LT(l.step_m, 1e-6) << "the heading that fits has no step";
+      } else if (y > 0.5 * width - 0.9 + 0.05 && y < 0.5 * width - 0.05) {
+        ++off_middle;
+        EXPECT_EQ(l.face_class, FaceClass::kLethal) << "corridor " << width << " m, y " << y;
+      } else if (y > 0.5 * width + 0.95 && y < 3.3) {
+        ++outside;
+        EXPECT_EQ(l.face_class, FaceClass::kFree) << "corridor " << width << " m, outside at y " << y;
+      }
+    }
+    EXPECT_EQ(middle > 0, width > 2.0);
+    EXPECT_GT(off_middle, 10u);
+    EXPECT_GT(outside, 10u);
+  }
+}
+
+TEST(LayersTest, LargeFloorFaceBesideAPostIsNotLethalAsAWhole) {
+  // A 4 x 4 m floor of two triangles (8 m^2 each, far larger than the 0.36 m^2 disc) and a 1 m
+  // post 0.2 m from one triangle's centroid: a disc centred at the centroid collides, but not at
+  // most points of the triangle, so the triangle is not lethal as a whole (it was before
+  // 2026-12-01, judged at its centroid only). Walled in on all four sides at 0.3 m from the
+  // centroid, the disc collides at every point: lethal. A finely meshed floor around the same
+  // post stays lethal within the disc's radius of it.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const Eigen::Vector2d c(-2.0 / 3, -2.0 / 3);  // the centroid of the triangle (-2,-2) (2,-2) (-2,2)
+  for (const bool caged : {false, true}) {
+    mesher::TriangleMesh mesh;
+    mesh.vertices = {{-2, -2, 0}, {2, -2, 0}, {2, 2, 0}, {-2, 2, 0}};
+    mesh.faces = {{0, 1, 3}, {1, 2, 3}};
+    if (caged) {
+      const double h = 0.3;
+      test::appendMesh(mesh, test::thinWall(c.x() - h, c.y() - h, c.x() + h, c.y() - h, 0, 1));
+      test::appendMesh(mesh, test::thinWall(c.x() + h, c.y() - h, c.x() + h, c.y() + h, 0, 1));
+      test::appendMesh(mesh, test::thinWall(c.x() + h, c.y() + h, c.x() - h, c.y() + h, 0, 1));
+      test::appendMesh(mesh, test::thinWall(c.x() - h, c.y() + h, c.x() - h, c.y() - h, 0, 1));
+    } else {
+      test::appendMesh(mesh, test::thinWall(c.x() + 0.15, c.y(), c.x() + 0.25, c.y(), 0, 1));
+    }
+    const LayeredMesh map = compute(mesh, profile);
+    const auto big = floorFacesWhere(map, [&](const Eigen::Vector3d& p) { return (p.head<2>() - c).norm() < 1e-9; });
+    ASSERT_EQ(big.size(), 1u);
+    const FaceLayers& l = map.layers[big[0]];
+    EXPECT_EQ(l.face_class, caged ? FaceClass::kLethal : FaceClass::kFree) << "caged " << caged;
+    if (caged) {
+      EXPECT_NEAR(l.step_m, std::min(1.0, profile.min_clearance_m), 1e-5) << "the walls' top, capped at the body";
+    } else {
+      EXPECT_LT(l.step_m, 1e-6) << "the post does not count";
+    }
+  }
+  {
+    // The car (4.8 x 1.8 m, 8.64 m^2) on a 15 x 15 m floor of two triangles (112.5 m^2 each): a
+    // post 0.3 m from a centroid blocks every heading there, not at most of the triangle's points.
+    mesher::TriangleMesh mesh;
+    mesh.vertices = {{-7.5, -7.5, 0}, {7.5, -7.5, 0}, {7.5, 7.5, 0}, {-7.5, 7.5, 0}};
+    mesh.faces = {{0, 1, 3}, {1, 2, 3}};
+    const Eigen::Vector2d cc(-2.5, -2.5);
+    test::appendMesh(mesh, test::thinWall(cc.x() + 0.25, cc.y(), cc.x() + 0.35, cc.y(), 0, 1));
+    const LayeredMesh map = compute(mesh, loadRobotProfile(kRobots / "car.yaml"));
+    const auto big = floorFacesWhere(map, [&](const Eigen::Vector3d& p) { return (p.head<2>() - cc).norm() < 1e-9; });
+    ASSERT_EQ(big.size(), 1u);
+    EXPECT_EQ(map.layers[big[0]].face_class, FaceClass::kFree) << "car";
+  }
+  mesher::TriangleMesh fine = test::heightFieldMesh(-2, 2, -2, 2, 0.1, [](double, double) { return 0.0; });
+  test::appendMesh(fine, test::thinWall(c.x() + 0.15, c.y(), c.x() + 0.25, c.y(), 0, 1));
+  const LayeredMesh map = compute(fine, profile);
+  const Eigen::Vector2d post(c.x() + 0.2, c.y());
+  std::size_t near = 0;
+  for (std::size_t f : floorFacesWhere(map, [&](const Eigen::Vector3d& p) { return (p.head<2>() - post).norm() < r - 0.1; })) {
+    ++near;
+    EXPECT_EQ(map.layers[f].face_class, FaceClass::kLethal);
+  }
+  EXPECT_GT(near, 10u);
+}
+
+TEST(LayersTest, SamplesOnSteinerFacesAreNoData) {
+  // A measured floor beside an unmeasured (Steiner) patch whose closing faces rise to a 0.87 m
+  // lattice vertex (the mesher's "tent"): footprint samples landing on the patch count neither as
+  // support nor as a step, so the measured floor around it costs nothing (until 2026-12-01 it read
+  // the tent as a 0.35-0.4 m step).
+  const RobotProfile profile = smallWheeled();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  mesh.is_steiner.assign(mesh.vertices.size(), 0);
+  const auto inPatch = [](const Eigen::Vector3d& v) { return v.x() > -1e-9 && std::abs(v.y()) < 1.0 + 1e-9; };
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (!inPatch(mesh.vertices[v])) continue;
+    mesh.is_steiner[v] = 1;
+    // A tent: 0.87 m at (1, 0), down to the floor along the patch's border.
+    const Eigen::Vector3d& p = mesh.vertices[v];
+    mesh.vertices[v].z() = 0.87 * std::max(0.0, 1.0 - std::max(std::abs(p.x() - 1.0), std::abs(p.y())));
+  }
+  const LayeredMesh map = compute(mesh, profile);
+  std::size_t beside = 0;
+  for (std::size_t f : floorFacesWhere(map, [](const Eigen::Vector3d& c) {
+         return c.x() < -0.05 && c.x() > -1.0 && std::abs(c.y()) < 0.8;
+       })) {
+    const FaceLayers& l = map.layers[f];
+    if (l.face_class == FaceClass::kUnknown) continue;  // touching the patch
+    ++beside;
+    EXPECT_EQ(l.face_class, FaceClass::kFree) << "at x = " << centroid(map, f).x();
+    EXPECT_LT(l.step_m, 1e-6);
+    EXPECT_EQ(l.contact, 1.0f);
+    EXPECT_LT(l.cost, 0.05f);
+  }
+  EXPECT_GT(beside, 50u);
 }
 
 /// Brute-force geodesic distances: Dijkstra over faces sharing an edge, from the lethal faces.

@@ -81,7 +81,9 @@ TEST(ScenesTest, FlatFloorCostsAlmostNothing) {
   ASSERT_GT(faces.size(), 30u);
   const std::size_t cheap = countIf(faces, [](const FaceView& f) { return f.layers->cost < 0.05f; });
   std::printf("floor: %zu measured faces, %zu cost < 0.05\n", faces.size(), cheap);
-  EXPECT_GE(cheap, faces.size() * 9 / 10);
+  // Samples on the closing (Steiner) faces at the floor's border are no data, not a step: until
+  // 2026-12-01, 27 of 268 faces read the closing "tent" as a 0.35-0.4 m step.
+  EXPECT_GE(cheap, faces.size() * 99 / 100);
 }
 
 /// Measured faces spanning the step line (a vertex on each level) and all measured faces near it.

@@ -26,6 +26,8 @@ constexpr double kMaxRiserSlopeDeg = 95.0;
 constexpr char kNoGround = 0;
 constexpr char kSteepGround = 1;
 constexpr char kLevelGround = 2;
+/// No measured ground in the sample's band, but closing (Steiner) geometry: nobody looked there.
+constexpr char kUnknownGround = 3;
 
 /// floor and ceil of a double known to lie well within the int range (std::floor is a library
 /// call without SSE4.1).
@@ -97,7 +99,10 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
       k_(kSamplesPerRadius),
       band_down_m_(std::max(profile.min_clearance_m, 2.0 * profile.max_step_m)),
       clearance_search_m_(std::max(3.0 * profile.min_clearance_m, 5.0)),
-      cos_max_slope_(std::cos(profile.max_slope_deg * M_PI / 180.0)) {
+      cos_max_slope_(std::cos(profile.max_slope_deg * M_PI / 180.0)),
+      footprint_area_m2_(profile.footprint == FootprintShape::kDisc
+                             ? M_PI * profile.footprint_radius_m * profile.footprint_radius_m
+                             : profile.footprint_length_m * profile.footprint_width_m) {
   if (profile.footprint == FootprintShape::kRectangle) {
     const double narrow = std::min(profile.footprint_length_m, profile.footprint_width_m);
     k_ = std::max(k_, ceilInt(kSamplesPerWidth * radius_m_ / narrow - 1e-9));
@@ -124,6 +129,7 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
     // Over half a turn: the rectangle turned by 180 degrees covers the same samples.
     const double theta = M_PI * k / profile.contact_headings;
     const double c = std::cos(theta), s = std::sin(theta);
+    heading_axes_.emplace_back(Eigen::Vector2d(c, s), Eigen::Vector2d(-s, c));
     std::vector<int> inside;
     for (std::size_t i = 0; i < offsets_.size(); ++i) {
       const Eigen::Vector2d& o = offsets_[i];
@@ -170,7 +176,9 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
   for (Slot t : candidates_) {
     const SampleGeometry& g = store.geometry(t);
     if (!g.sampleable) continue;  // heightAt finds nothing on it
-    const char level = g.normal_z >= cos_max_slope_ ? kLevelGround : kSteepGround;
+    // Steiner faces are invented: they mark a sample as unknown, never as ground (measured ground
+    // anywhere in the band wins, whatever its distance).
+    const char level = g.steiner ? kUnknownGround : g.normal_z >= cos_max_slope_ ? kLevelGround : kSteepGround;
     const int i0 = first(g.box_min.x(), c.x()), i1 = last(g.box_max.x(), c.x());
     const int j0 = first(g.box_min.y(), c.y()), j1 = last(g.box_max.y(), c.y());
     const ProjectedEdges edges(g);
@@ -191,8 +199,13 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
         if (!z || *z < ref_z - band_down_m_ || *z > ref_z + profile_.min_clearance_m) continue;
         double& best = z_[static_cast<std::size_t>(k)];
         char& best_level = level_[static_cast<std::size_t>(k)];
-        const double d = std::abs(*z - ref_z), best_d = best_level != kNoGround ? std::abs(best - ref_z) : 0.0;
-        if (best_level == kNoGround || d < best_d || (d == best_d && *z < best)) {
+        if (level == kUnknownGround) {
+          if (best_level == kNoGround) best_level = kUnknownGround;
+          continue;
+        }
+        const bool measured = best_level == kLevelGround || best_level == kSteepGround;
+        const double d = std::abs(*z - ref_z), best_d = measured ? std::abs(best - ref_z) : 0.0;
+        if (!measured || d < best_d || (d == best_d && *z < best)) {
           best = *z;
           best_level = level;
         }
@@ -207,7 +220,7 @@ void LayerComputer::prepareSamples(const Eigen::Vector3d& c, bool steep) const {
   terms_.resize(offsets_.size());
   for (std::size_t i = 0; i < offsets_.size(); ++i) {
     SampleTerms& t = terms_[i];
-    t.flags = 0;
+    t.flags = level_[i] == kUnknownGround ? kUnknown : 0;
     if (std::isnan(z_[i])) continue;
     t.dz = z_[i] - c.z();
     t.x_dz = offsets_[i].x() * t.dz;
@@ -276,9 +289,10 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   // Residuals of the centroid and every found sample: RMS against the plane over all samples,
   // range against the level's plane; and the supported samples.
   double sum_sq = all_plane.z() * all_plane.z(), step_min = -level_plane.z(), step_max = -level_plane.z();
-  int n = 1, supported = 0;
+  int n = 1, supported = 0, unknown = 0;
   for (int i : samples) {
     const SampleTerms& t = terms_[static_cast<std::size_t>(i)];
+    unknown += (t.flags & kUnknown) ? 1 : 0;
     if (!(t.flags & kFound)) continue;
     const Eigen::Vector2d& o = offsets_[static_cast<std::size_t>(i)];
     const double dz = t.dz;
@@ -292,7 +306,11 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   }
   out.roughness_m = std::sqrt(sum_sq / n);
   out.step_m = step_max - step_min;
-  out.contact = samples.empty() ? 0.0 : static_cast<double>(supported) / static_cast<double>(samples.size());
+  // Support over the known samples (unknown ones neither support nor fail to), but over at least
+  // kMinKnownSampleFraction of the footprint: a footprint mostly over unknown is not supported.
+  const double total = static_cast<double>(samples.size());
+  const double known = std::max(total - unknown, kMinKnownSampleFraction * total);
+  out.contact = known > 0 ? std::min(1.0, static_cast<double>(supported) / known) : 0.0;
   const RobotProfile& p = profile_;
   out.fits = out.step_m <= p.max_step_m && out.roughness_m <= p.max_roughness_m && out.contact >= p.min_support;
   const auto ratio = [](double value, double limit) {
@@ -315,7 +333,14 @@ LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
   r.ref_b = r.steep ? 0.0 : -n.y() / n.z();
   // Only faces reaching the samples' height band can be ground: the reference plane stays within
   // |grad| R of the centroid over the footprint (widened far beyond rounding).
-  const double ref_spread = std::hypot(r.ref_a, r.ref_b) * radius_m_ + 1e-6 * (1.0 + radius_m_);
+  // Faces judged at several points: their obstacles lie within reachM() of any of them.
+  std::array<Eigen::Vector2d, kObstaclePoints> points;
+  const int n_points = obstaclePoints(f, r.steep, points);
+  double spread = 0;
+  for (int i = 0; i < n_points; ++i) spread = std::max(spread, points[static_cast<std::size_t>(i)].norm());
+  r.window.obstacle_reach_m = radius_m_ + spread;
+  const double reach = r.window.obstacle_reach_m;
+  const double ref_spread = std::hypot(r.ref_a, r.ref_b) * reach + 1e-6 * (1.0 + reach);
   r.window.z_lo = c.z() - ref_spread - band_down_m_;
   r.window.z_hi = c.z() + ref_spread + profile_.min_clearance_m;
   return r;
@@ -339,21 +364,36 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   // Ground candidates: upward-facing faces whose projection's box meets the footprint's box.
   const Eigen::Vector2d lo = c.head<2>() - Eigen::Vector2d(radius_m_, radius_m_);
   const Eigen::Vector2d hi = c.head<2>() + Eigen::Vector2d(radius_m_, radius_m_);
+  const double obstacle_reach = reference_plane.window.obstacle_reach_m;
+  const Eigen::Vector2d obstacle_lo = c.head<2>() - Eigen::Vector2d(obstacle_reach, obstacle_reach);
+  const Eigen::Vector2d obstacle_hi = c.head<2>() + Eigen::Vector2d(obstacle_reach, obstacle_reach);
   std::vector<Slot>& candidates = candidates_;
   candidates.clear();
   const double z_lo = reference_plane.window.z_lo, z_hi = reference_plane.window.z_hi;
-  store.forEachInBox(lo, hi, [&](Slot t) {
+  // Obstacles: the parts inside the robot's body of measured faces that are not ground (the same
+  // window; the box of all the points the face is judged at; see mayAffect). The face itself is
+  // not in its own way.
+  obstacles_.clear();
+  store.forEachInBox(obstacle_lo, obstacle_hi, [&](Slot t) {
     const FaceBounds& g = store.bounds(t);
-    if (!g.alive || g.normal_z <= kMinGroundNormalZ || g.max_z < z_lo || g.min_z > z_hi) return;
+    if (!g.alive || g.max_z < z_lo || g.min_z > z_hi) return;
+    if ((g.box_min.array() > obstacle_hi.array()).any() || (g.box_max.array() < obstacle_lo.array()).any()) return;
+    if (t != s && mayObstruct(g, store.geometry(t).steiner)) {
+      Obstacle o;
+      if (clipToBody(store.geometry(t), c, ref_a, ref_b, o)) obstacles_.push_back(o);
+    }
+    if (g.normal_z <= kMinGroundNormalZ) return;
     if ((g.box_min.array() > hi.array()).any() || (g.box_max.array() < lo.array()).any()) return;
     candidates.push_back(t);
   });
+  std::array<Eigen::Vector2d, kObstaclePoints> points;
+  const std::vector<double>& tops = obstacleTops(f, reference_plane.steep, points);
   ref_.resize(count);
   for (std::size_t i = 0; i < count; ++i) ref_[i] = c.z() + ref_a * offsets_[i].x() + ref_b * offsets_[i].y();
   sampleGround(store, c);
   int found_samples = 0, level_samples = 0;
   for (std::size_t i = 0; i < count; ++i) {
-    if (level_[i] == kNoGround) continue;
+    if (level_[i] == kNoGround || level_[i] == kUnknownGround) continue;
     ++found_samples;
     level_samples += level_[i] == kLevelGround ? 1 : 0;
   }
@@ -363,8 +403,17 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   HeadingResult best;
   double worst_contact = 1.0, best_contact = 0.0;
   bool first = true;
-  for (const std::vector<int>& samples : heading_samples_) {
-    const HeadingResult h = judgeHeading(samples, ref_a, ref_b, steep);
+  for (std::size_t k = 0; k < heading_samples_.size(); ++k) {
+    HeadingResult h = judgeHeading(heading_samples_[k], ref_a, ref_b, steep);
+    // An obstacle inside the footprint: the body collides, the heading does not fit; its top
+    // above the plane counts as a step (the highest the robot would have to climb there).
+    const double top = tops[k];
+    if (top > 0) {
+      h.fits = false;
+      h.step_m = std::max(h.step_m, top);
+      h.badness = std::max(h.badness, profile_.max_step_m > 0 ? top / profile_.max_step_m
+                                                               : std::numeric_limits<double>::infinity());
+    }
     worst_contact = std::min(worst_contact, h.contact);
     best_contact = std::max(best_contact, h.contact);
     // The best heading: one that fits, then the smallest badness, then the first.

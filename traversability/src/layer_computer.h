@@ -3,6 +3,8 @@
 // contact, clearance, observedness), the lethal test and the combined cost. Internal.
 
 #include <Eigen/Core>
+#include <array>
+#include <utility>
 #include <vector>
 
 #include "surface_store.h"
@@ -28,10 +30,22 @@ namespace terramesh::traversability::internal {
 /// - roughness: RMS of the residuals from the plane fitted to all found samples;
 /// - contact: the fraction of the samples whose surface lies within max_step_m +
 ///   contact_tolerance_m of the face's plane (a wheel or foot can reach it: a curb the robot may
-///   climb still supports it, a ledge or hole does not).
-/// The footprint fits at a heading if all three are within the robot's limits; step and
-/// roughness are reported at the best heading (one that fits, else the closest to fitting),
-/// contact at the worst and the best.
+///   climb still supports it, a ledge or hole does not), over the known samples but at least
+///   kMinKnownSampleFraction of all. Samples find measured ground only: a sample whose band holds
+///   only Steiner faces is unknown (no data: no ground, step, roughness or missing support);
+/// - obstacles (the robot's body): the parts of measured faces that are not ground (steeper than
+///   max_slope: walls, the sides of obstacles, undersides and ceilings) lying between max_step_m
+///   and min_clearance_m above the face's reference plane, projected on the horizontal plane; the
+///   footprint (the exact disc or rectangle, not its samples) meeting one collides. The step of
+///   that heading is then at least the obstacle's top above the plane (capped at min_clearance_m),
+///   so it does not fit. Faces touching a Steiner vertex (closing geometry nobody measured) are
+///   never obstacles: unknown is never lethal. Upward-facing ground rising inside the footprint is
+///   judged by the step instead. A ground face larger than the footprint blocked (at every heading)
+///   at its centroid counts as blocked only if it is also blocked at more than half of its
+///   obstaclePoints.
+/// The footprint fits at a heading if step, roughness and contact are within the robot's limits;
+/// step and roughness are reported at the best heading (one that fits, else the closest to
+/// fitting), contact at the worst and the best.
 /// - clearance: vertical ray up from the centroid to the first face whose projection contains it.
 class LayerComputer {
  public:
@@ -40,6 +54,9 @@ class LayerComputer {
   /// Horizontal reach of a face's local layers: a change farther than this (in the horizontal
   /// plane, from the face's centroid) cannot change them.
   double reachM() const { return radius_m_; }
+  /// Horizontal reach of obstacles for the largest faces (judged at points up to reachM() from
+  /// their centroid, see computeLocal): no face's layers reach farther.
+  double maxReachM() const { return 2.0 * radius_m_; }
 
   /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`.
   void computeLocal(SurfaceStore& store, Slot s) const;
@@ -48,21 +65,35 @@ class LayerComputer {
   /// centroid and normal only.
   struct GroundWindow {
     double z_lo = 0, z_hi = 0;
+    /// Horizontal reach of the face's obstacle test from its centroid: reachM(), more for a face
+    /// judged at several points.
+    double obstacle_reach_m = 0;
   };
   GroundWindow groundWindow(const StoredFace& face) const;
   /// Whether a face t (its bounds and whether heightAt can sample it) can take part in the local
-  /// layers of a face with centroid `c` and ground window `w`, as a ground candidate or as its
-  /// ceiling, wherever t lies horizontally (the caller tests the reach). When false, adding or
+  /// layers of a face with centroid `c` and ground window `w`, as a ground candidate, an obstacle
+  /// in its footprint or its ceiling, wherever t lies horizontally (the caller tests the reach). When false, adding or
   /// removing t changes no local layer of that face: computeLocal skips t in both searches.
-  bool mayAffect(const Eigen::Vector3d& c, const GroundWindow& w, const FaceBounds& t, bool t_sampleable) const {
-    // The two filters of computeLocal, on t's height range (both searches skip faces heightAt
-    // cannot sample).
-    if (!t_sampleable) return false;
+  /// `distance_m`: the horizontal distance from c to t's projection.
+  bool mayAffect(const Eigen::Vector3d& c, const GroundWindow& w, const FaceBounds& t, bool t_sampleable,
+                 bool t_steiner, double distance_m) const {
+    // The three filters of computeLocal, on t's height range: obstacles (any measured face that
+    // is not ground, sampleable or not, within the window), ground and ceiling (both skip faces
+    // heightAt cannot sample).
+    if (mayObstruct(t, t_steiner) && !(t.max_z < w.z_lo || t.min_z > w.z_hi) &&
+        distance_m <= w.obstacle_reach_m * (1 + 1e-9) + 1e-6) {
+      return true;
+    }
+    if (!t_sampleable || distance_m > radius_m_ * (1 + 1e-9) + 1e-6) return false;
     if (!(t.normal_z <= kMinGroundNormalZ) && !(t.max_z < w.z_lo || t.min_z > w.z_hi)) return true;
     return !(c.x() < t.box_min.x() - kSliceToleranceM || c.x() > t.box_max.x() + kSliceToleranceM ||
              c.y() < t.box_min.y() - kSliceToleranceM || c.y() > t.box_max.y() + kSliceToleranceM ||
              t.max_z < c.z() + kMinClearanceGapM || t.min_z - c.z() > clearance_search_m_);
   }
+
+  /// Whether a face can be an obstacle inside a footprint (computeLocal's filter before its height
+  /// window): measured and not ground (steeper than max_slope, vertical or facing down).
+  bool mayObstruct(const FaceBounds& t, bool t_steiner) const { return !t_steiner && t.normal_z < cos_max_slope_; }
 
   /// Faces whose normal has a smaller upward component are not ground (walls, ceilings).
   static constexpr double kMinGroundNormalZ = 1e-6;
@@ -89,6 +120,12 @@ class LayerComputer {
     GroundWindow window;
   };
   Reference reference(const StoredFace& face) const;
+  /// The points (relative to the centroid, horizontal) where the obstacle test judges a face: a
+  /// ground face whose horizontal projection is larger than the footprint at the centroids of its
+  /// 1-to-9 split (each moved towards the centroid to within reachM() of it), any other face at
+  /// its centroid only. Returns how many (1 or kObstaclePoints).
+  int obstaclePoints(const StoredFace& face, bool steep, std::array<Eigen::Vector2d, 9>& points) const;
+  static constexpr int kObstaclePoints = 9;
 
   /// The footprint layers at one heading.
   struct HeadingResult {
@@ -96,6 +133,24 @@ class LayerComputer {
     bool fits = false;    ///< step, roughness and contact within the robot's limits
     double badness = 0;   ///< largest layer / limit ratio (smaller is better)
   };
+
+  /// The horizontal shadow, relative to the centroid, of the part of a face inside the robot's
+  /// body (between max_step_m and min_clearance_m above the reference plane), and the height of
+  /// its top above the plane.
+  struct Obstacle {
+    std::array<Eigen::Vector2d, 5> p;  ///< convex polygon (a triangle clipped by two planes)
+    int n = 0;
+    double top_m = 0;
+  };
+  /// Clips face t (its sampling geometry) to the body of the face with centroid c and reference
+  /// plane slopes (ref_a, ref_b); false if no part of it lies there.
+  bool clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b, Obstacle& out) const;
+  /// Per heading, the top of the highest obstacle (obstacles_) the footprint meets, 0 if none,
+  /// for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp).
+  const std::vector<double>& obstacleTops(const StoredFace& f, bool steep,
+                                          std::array<Eigen::Vector2d, kObstaclePoints>& points) const;
+  /// Whether the footprint centred at `at` (relative to the centroid) at heading k meets the obstacle.
+  bool meets(const Obstacle& o, std::size_t heading, const Eigen::Vector2d& at) const;
 
   /// Finds, for every footprint sample of the face with centroid c, the ground closest to the
   /// sample's reference height (z_ and level_ scratch; NaN where none).
@@ -120,6 +175,10 @@ class LayerComputer {
   static constexpr char kFound = 1;      ///< the sample found ground
   static constexpr char kInLevel = 2;    ///< ... within the face's level band (not steep faces)
   static constexpr char kSupported = 4;  ///< ... within max_step + contact_tolerance of the plane
+  static constexpr char kUnknown = 8;    ///< no measured ground, only Steiner faces, in its band
+  /// Contact is the supported share of the known samples, but of at least this share of all
+  /// samples: a footprint over more unknown than this counts the excess as unsupported.
+  static constexpr double kMinKnownSampleFraction = 0.5;
 
   RobotProfile profile_;
   double radius_m_;
@@ -132,9 +191,12 @@ class LayerComputer {
   /// Per heading, the indices of offsets_ inside the footprint.
   std::vector<std::vector<int>> heading_samples_;
   std::vector<OffsetTerms> offset_terms_;
+  /// Per heading, the rectangle's axes along and across it (unused for a disc).
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> heading_axes_;
   double band_down_m_;
   double clearance_search_m_;
   double cos_max_slope_;
+  double footprint_area_m2_;
   /// Scratch (computeLocal is not thread-safe): ground candidates; per sample the reference
   /// height, the best ground height (NaN: none) and whether that ground is level.
   mutable std::vector<Slot> candidates_;
@@ -142,6 +204,8 @@ class LayerComputer {
   mutable std::vector<double> z_;
   mutable std::vector<char> level_;
   mutable std::vector<SampleTerms> terms_;
+  mutable std::vector<Obstacle> obstacles_;
+  mutable std::vector<double> tops_;
 };
 
 }  // namespace terramesh::traversability::internal

@@ -60,6 +60,7 @@ struct Change {
   Projection projection;
   internal::FaceBounds bounds;
   bool sampleable = false;
+  bool steiner = false;
 };
 
 Projection projectionOf(const StoredFace& f) {
@@ -168,7 +169,8 @@ class TraversabilityMap::Impl {
       const std::optional<Slot> slot = store_.find(key);
       if (!slot) return false;
       const bool had_distance = std::isfinite(distance_[*slot]);
-      changed.push_back({projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable});
+      changed.push_back({projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable,
+                         store_.geometry(*slot).steiner});
       if (had_distance) change_points.push_back(store_.centroid(*slot));
       lethal_[*slot] = 0;
       distance_[*slot] = kInf;
@@ -214,7 +216,7 @@ class TraversabilityMap::Impl {
       window_[s] = computer_.groundWindow(f);
       added.push_back(s);
       change_points.push_back(f.centroid_L);
-      changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
+      changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable, store_.geometry(s).steiner});
     }
     stats.faces_added += added.size();
     for (const mesher::SurfaceFace& face : around) {
@@ -223,8 +225,8 @@ class TraversabilityMap::Impl {
     stats.faces_reobserved = reobserved.size();
 
     // Local layers: every face whose footprint disc or clearance column meets a changed face that
-    // can be its ground or its ceiling (LayerComputer::mayAffect).
-    const double reach = computer_.reachM() * (1 + 1e-9) + 1e-6;
+    // can be its ground, an obstacle in its footprint or its ceiling (LayerComputer::mayAffect).
+    const double reach = computer_.maxReachM() * (1 + 1e-9) + 1e-6;
     const std::uint32_t epoch = nextEpoch();
     std::vector<Slot>& dirty = dirty_;
     dirty.clear();
@@ -241,8 +243,9 @@ class TraversabilityMap::Impl {
       store_.forEachCentroidInBox(p.lo - r, p.hi + r, [&](Slot s) {
         if (mark_[s] == epoch) return;
         const Eigen::Vector3d& c = store_.centroid(s);
-        if (computer_.mayAffect(c, window_[s], change.bounds, change.sampleable) &&
-            distanceToTriangle(c.head<2>(), p) <= reach) {
+        const double distance = distanceToTriangle(c.head<2>(), p);
+        if (distance <= reach &&
+            computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, change.steiner, distance)) {
           markDirty(s);
         }
       });

@@ -183,4 +183,17 @@ mesher::TriangleMesh horizontalQuad(double x0, double x1, double y0, double y1, 
   return mesh;
 }
 
+mesher::TriangleMesh verticalQuad(double x0, double y0, double x1, double y1, double z0, double z1) {
+  mesher::TriangleMesh mesh;
+  mesh.vertices = {{x0, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y0, z1}};
+  mesh.faces = {{0, 2, 1}, {0, 3, 2}};
+  return mesh;
+}
+
+mesher::TriangleMesh thinWall(double x0, double y0, double x1, double y1, double z0, double z1) {
+  mesher::TriangleMesh mesh = verticalQuad(x0, y0, x1, y1, z0, z1);
+  appendMesh(mesh, verticalQuad(x1, y1, x0, y0, z0, z1));
+  return mesh;
+}
+
 }  // namespace terramesh::test

@@ -37,4 +37,13 @@ void appendMesh(mesher::TriangleMesh& a, const mesher::TriangleMesh& b);
 /// down (a ceiling seen from below) if `facing_down`, else up.
 mesher::TriangleMesh horizontalQuad(double x0, double x1, double y0, double y1, double z, bool facing_down);
 
+/// A vertical rectangle from (x0, y0) to (x1, y1) between heights z0 and z1 as two triangles,
+/// facing to the right of the direction (x0, y0) -> (x1, y1) seen from above. A thin wall is this
+/// plus the same with the ends swapped (thinWall).
+mesher::TriangleMesh verticalQuad(double x0, double y0, double x1, double y1, double z0, double z1);
+
+/// A two-sided vertical wall of no thickness (both faces of verticalQuad), as walls, posts and
+/// fences come out of a mesher that sees both sides.
+mesher::TriangleMesh thinWall(double x0, double y0, double x1, double y1, double z0, double z1);
+
 }  // namespace terramesh::test

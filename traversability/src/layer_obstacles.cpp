@@ -1,0 +1,162 @@
+// The robot's body against the obstacles in its footprint (LayerComputer's obstacle test): the
+// parts of non-ground faces inside the body, whether a footprint meets them, and the points a
+// large face is judged at. Internal.
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "layer_computer.h"
+
+namespace terramesh::traversability::internal {
+namespace {
+
+/// Surface must reach this far above max_step_m (far more than rounding) to be inside the body.
+constexpr double kBodyToleranceM = 1e-9;
+
+}  // namespace
+
+bool LayerComputer::clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b,
+                               Obstacle& out) const {
+  // Corners relative to the centroid: (x, y, height above the reference plane).
+  using Corner = Eigen::Vector3d;
+  const auto corner = [&](double x, double y, double z) {
+    const double px = x - c.x(), py = y - c.y();
+    return Corner(px, py, z - c.z() - ref_a * px - ref_b * py);
+  };
+  std::array<Corner, 6> a{corner(t.x0, t.y0, t.z0), corner(t.x0 + t.bx, t.y0 + t.by, t.z1),
+                          corner(t.x0 + t.cx, t.y0 + t.cy, t.z2)};
+  std::array<Corner, 6> b{};
+  int n = 3;
+  // Sutherland-Hodgman against h >= lo (sign +1) and h <= hi (sign -1): a convex polygon stays
+  // convex, each plane adds at most one corner.
+  const auto clip = [](const std::array<Corner, 6>& in, int count, std::array<Corner, 6>& result, double bound,
+                       double sign) {
+    int m = 0;
+    for (int i = 0; i < count; ++i) {
+      const Corner& p = in[static_cast<std::size_t>(i)];
+      const Corner& q = in[static_cast<std::size_t>((i + 1) % count)];
+      const double dp = sign * (p.z() - bound), dq = sign * (q.z() - bound);
+      if (dp >= 0) result[static_cast<std::size_t>(m++)] = p;
+      if ((dp >= 0) != (dq >= 0)) result[static_cast<std::size_t>(m++)] = p + (q - p) * (dp / (dp - dq));
+    }
+    return m;
+  };
+  const double lo = profile_.max_step_m, hi = profile_.min_clearance_m;
+  n = clip(a, n, b, lo, 1.0);
+  n = clip(b, n, a, hi, -1.0);
+  if (n == 0) return false;
+  double top = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i) top = std::max(top, a[static_cast<std::size_t>(i)].z());
+  // Surface reaching no higher than max_step (up to rounding) is a step the robot climbs.
+  if (!(top > lo + kBodyToleranceM)) return false;
+  out.n = std::min(n, static_cast<int>(out.p.size()));
+  for (int i = 0; i < out.n; ++i) out.p[static_cast<std::size_t>(i)] = a[static_cast<std::size_t>(i)].head<2>();
+  out.top_m = std::min(top, hi);
+  return true;
+}
+
+bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eigen::Vector2d& at) const {
+  // The shadow relative to the footprint's centre `at`.
+  Obstacle o = shadow;
+  for (int i = 0; i < o.n; ++i) o.p[static_cast<std::size_t>(i)] -= at;
+  const int n = o.n;
+  if (profile_.footprint == FootprintShape::kDisc) {
+    // Inside the polygon (strictly: a degenerate one has no inside) or within R of an edge.
+    const double r2 = radius_m_ * radius_m_;
+    bool positive = true, negative = true;
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector2d& p = o.p[static_cast<std::size_t>(i)];
+      const Eigen::Vector2d& q = o.p[static_cast<std::size_t>((i + 1) % n)];
+      const Eigen::Vector2d e = q - p;
+      const double len2 = e.squaredNorm();
+      const double t = len2 > 0 ? std::clamp(-p.dot(e) / len2, 0.0, 1.0) : 0.0;
+      if ((p + t * e).squaredNorm() <= r2) return true;
+      const double cross = e.x() * (-p.y()) - e.y() * (-p.x());
+      positive = positive && cross > 0;
+      negative = negative && cross < 0;
+    }
+    return n >= 3 && (positive || negative);
+  }
+  // Separating axes: the rectangle's two and the polygon's edge normals (touching counts).
+  const Eigen::Vector2d& u = heading_axes_[heading].first;
+  const Eigen::Vector2d& v = heading_axes_[heading].second;
+  const double half_a = 0.5 * profile_.footprint_length_m, half_b = 0.5 * profile_.footprint_width_m;
+  const auto separated = [&](const Eigen::Vector2d& axis, double half) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int i = 0; i < n; ++i) {
+      const double d = o.p[static_cast<std::size_t>(i)].dot(axis);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    return hi < -half || lo > half;
+  };
+  if (separated(u, half_a) || separated(v, half_b)) return false;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d e = o.p[static_cast<std::size_t>((i + 1) % n)] - o.p[static_cast<std::size_t>(i)];
+    if (!(e.squaredNorm() > 0)) continue;
+    const Eigen::Vector2d normal(-e.y(), e.x());
+    if (separated(normal, half_a * std::abs(normal.dot(u)) + half_b * std::abs(normal.dot(v)))) return false;
+  }
+  return true;
+}
+
+const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool steep,
+                                                       std::array<Eigen::Vector2d, kObstaclePoints>& points) const {
+  const std::size_t headings = heading_samples_.size();
+  tops_.assign(headings, 0.0);
+  // The highest obstacle the footprint at point j and heading k meets (0: none).
+  const auto topAt = [&](const Eigen::Vector2d& at, std::size_t k) {
+    double top = 0;
+    for (const Obstacle& o : obstacles_) {
+      if (o.top_m > top && meets(o, k, at)) top = o.top_m;
+    }
+    return top;
+  };
+  const int n = obstaclePoints(f, steep, points);
+  // At the centroid, heading by heading (a heading that collides there does not fit).
+  bool centroid_blocked = true;
+  for (std::size_t k = 0; k < headings; ++k) {
+    tops_[k] = topAt(Eigen::Vector2d::Zero(), k);
+    centroid_blocked = centroid_blocked && tops_[k] > 0;
+  }
+  if (n == 1 || !centroid_blocked) return tops_;
+  // A face larger than the footprint, blocked at its centroid: blocked only if the robot also
+  // collides (at every heading) at most (more than half) of its points, else the obstacles do not
+  // count. A face free at its centroid stays as it was: the points only ever waive a collision.
+  int blocked = 0;
+  for (int j = 0; j < n; ++j) {
+    bool all = true;
+    for (std::size_t k = 0; k < headings && all; ++k) all = topAt(points[static_cast<std::size_t>(j)], k) > 0;
+    blocked += all ? 1 : 0;
+  }
+  if (!(2 * blocked > n)) tops_.assign(headings, 0.0);
+  return tops_;
+}
+
+int LayerComputer::obstaclePoints(const StoredFace& f, bool steep, std::array<Eigen::Vector2d, 9>& points) const {
+  points[0].setZero();
+  if (steep || !(0.5 * std::abs(f.projected_det) > footprint_area_m2_)) return 1;
+  const Eigen::Vector2d c = f.centroid_L.head<2>();
+  const Eigen::Vector2d a = f.p_L[0].head<2>() - c, b = f.p_L[1].head<2>() - c, d = f.p_L[2].head<2>() - c;
+  // Barycentric (i, j, k) / 3 grid, i + j + k = 3: the 6 upward sub-triangles' centroids are at
+  // (i + 1/3, j + 1/3, k + 1/3) / 3 with i + j + k = 2, the 3 downward ones' at
+  // (i + 2/3, j + 2/3, k + 2/3) / 3 with i + j + k = 1.
+  int n = 0;
+  const auto add = [&](double u, double v, double w) {
+    Eigen::Vector2d q = (u * a + v * b + w * d) / 3.0;
+    const double len = q.norm();
+    if (len > radius_m_) q *= radius_m_ / len;
+    points[static_cast<std::size_t>(n++)] = q;
+  };
+  for (int i = 0; i <= 2; ++i) {
+    for (int j = 0; i + j <= 2; ++j) add(i + 1.0 / 3, j + 1.0 / 3, 2 - i - j + 1.0 / 3);
+  }
+  for (int i = 0; i <= 1; ++i) {
+    for (int j = 0; i + j <= 1; ++j) add(i + 2.0 / 3, j + 2.0 / 3, 1 - i - j + 2.0 / 3);
+  }
+  return n;
+}
+
+}  // namespace terramesh::traversability::internal
