@@ -6,6 +6,7 @@
 //
 //   terramesh_latency_bench STREAM [--max-keyframes N] [--mesh-out FILE.ply]
 //                           [--check-invariants-every K] [--slowest N] [--enclosing-radius-cells R]
+//                           [--handle-min-rays N]
 #include <time.h>
 
 #include <algorithm>
@@ -52,6 +53,7 @@ struct Options {
   std::size_t check_every = 0;
   std::size_t slowest = 5;
   int enclosing_radius_cells = 0;  ///< 0: the config's default
+  int handle_min_rays = -1;  ///< -1: the mode's default
 };
 
 Options parse(int argc, char** argv) {
@@ -70,6 +72,8 @@ Options parse(int argc, char** argv) {
       options.check_every = std::stoul(value());
     } else if (arg == "--enclosing-radius-cells") {
       options.enclosing_radius_cells = std::stoi(value());
+    } else if (arg == "--handle-min-rays") {
+      options.handle_min_rays = std::stoi(value());
     } else if (arg == "--slowest") {
       options.slowest = std::stoul(value());
     } else if (!arg.empty() && arg[0] != '-' && options.stream.empty()) {
@@ -94,6 +98,7 @@ int run(const Options& options) {
   config.metres_per_unit = stream.metres_per_unit;
   if (stream.recommended_min_views > 0) config.min_views = stream.recommended_min_views;
   if (options.enclosing_radius_cells > 0) config.enclosing_radius_cells = options.enclosing_radius_cells;
+  if (options.handle_min_rays >= 0) config.handle_min_rays = options.handle_min_rays;
   mesher::Mesher mesher(config);
 
   std::vector<KeyframeRow> rows;

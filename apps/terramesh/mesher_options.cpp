@@ -111,6 +111,10 @@ void addMesherOptions(CLI::App& app, MesherOptions& options) {
   app.add_option("--camera-enclosing-radius-cells", options.camera_enclosing_radius_cells,
                  "proposed: and those within N cells of the update's cameras (0: off, as in the paper; 2 carves "
                  "more accurately near the camera at some cost, see docs/accuracy.md)");
+  app.add_option("--handle-min-rays", options.handle_min_rays,
+                 "proposed: a pass that would add a handle (tunnel) to the surface needs a cell crossed by N "
+                 "rays (0: off)")
+      ->option_text("N");
   app.add_option("--disable", options.disable,
                  "ablation: comma-separated techniques to switch off: incremental-steiner-grid, "
                  "local-enclosing-set, boundary-hash, next-cell-cache, ray-scheduler, edge-pass")
@@ -162,6 +166,7 @@ mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::Mesh
   if (options.spread_cap) config.spread_cap = *options.spread_cap;
   config.enclosing_radius_cells = options.enclosing_radius_cells;
   config.camera_enclosing_radius_cells = options.camera_enclosing_radius_cells;
+  if (options.handle_min_rays) config.handle_min_rays = *options.handle_min_rays;
   if (options.disable) disableTechniques(*options.disable, config);
   if (options.steiner_clearance_steps) config.steiner_clearance_steps = *options.steiner_clearance_steps;
   if (options.steiner_origin_offset_m) config.steiner_origin_offset_m = parseOffset(*options.steiner_origin_offset_m);

@@ -22,6 +22,7 @@ struct MesherOptions {
   std::optional<int> spread_cap;
   int enclosing_radius_cells = 2;
   int camera_enclosing_radius_cells = 0;
+  std::optional<int> handle_min_rays;
   std::optional<std::string> disable;  ///< comma-separated technique names
   std::optional<std::string> steiner_origin_offset_m;  ///< "X,Y,Z" metres (experiment option)
   std::optional<double> steiner_clearance_steps;

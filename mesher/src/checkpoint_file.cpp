@@ -39,6 +39,7 @@ void writeConfig(const MesherConfig& c, ByteWriter& out) {
     out.u8(flag ? 1 : 0);
   }
   out.f64(c.edge_pass_min_weight);
+  out.pod(c.handle_min_rays);
   out.u64(c.surface_history_max_bytes);
   out.u8(c.fixed_grid_bounds_W ? 1 : 0);
   if (c.fixed_grid_bounds_W) {
@@ -76,6 +77,7 @@ MesherConfig readConfig(ByteReader& in) {
     *flag = in.flag();
   }
   c.edge_pass_min_weight = in.f64();
+  c.handle_min_rays = in.pod<int>();
   c.surface_history_max_bytes = static_cast<std::size_t>(in.u64());
   if (in.flag()) {
     AxisAlignedBox box;

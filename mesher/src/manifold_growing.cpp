@@ -1,5 +1,6 @@
 #include "manifold_growing.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_set>
 
@@ -97,8 +98,82 @@ void Grower::edgePass(UpdateStats& stats) {
   ball_candidates_ = std::move(refused);
 }
 
+int Grower::boundaryEulerChange(const std::vector<CellHandle>& set, bool& fills_cavity) {
+  const std::uint32_t mark = state_.nextMark();
+  for (const CellHandle& cell : set) cell->info().mark = mark;
+  fills_cavity = true;
+  int change = 0;
+  euler_vertices_.clear();
+  euler_edges_.clear();
+  for (const CellHandle& cell : set) {
+    for (int i = 0; i < 4; ++i) {
+      // A facet changes only between a cell of the set and one outside it: on dO after iff not
+      // before.
+      const CellHandle n = cell->neighbor(i);
+      if (n->info().mark != mark) {
+        change += n->info().outside() ? -1 : 1;
+        fills_cavity = fills_cavity && n->info().outside();
+      }
+      euler_vertices_.push_back(cell->vertex(i));
+      for (int j = i + 1; j < 4; ++j) {
+        const Delaunay::Vertex* a = &*cell->vertex(i);
+        const Delaunay::Vertex* b = &*cell->vertex(j);
+        if (b < a) std::swap(a, b);
+        euler_edges_.push_back({a, b, cell, i, j});
+      }
+    }
+  }
+  // A vertex (edge) is on dO when some of its cells are in O and some are not. The sum does not
+  // depend on the (address) order of the sort.
+  std::sort(euler_vertices_.begin(), euler_vertices_.end(),
+            [](const VertexHandle& x, const VertexHandle& y) { return &*x < &*y; });
+  for (std::size_t r = 0; r < euler_vertices_.size();) {
+    std::size_t end = r + 1;
+    while (end < euler_vertices_.size() && euler_vertices_[end] == euler_vertices_[r]) ++end;
+    const VertexInfo& info = euler_vertices_[r]->info();
+    const std::size_t before = info.outside_cells;
+    const std::size_t after = before + (end - r);
+    const bool on_after = after > 0 && after < info.degree;
+    const bool on_before = before > 0 && before < info.degree;
+    change += static_cast<int>(on_after) - static_cast<int>(on_before);
+    r = end;
+  }
+  std::sort(euler_edges_.begin(), euler_edges_.end(), [](const SetEdge& x, const SetEdge& y) {
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
+  for (std::size_t r = 0; r < euler_edges_.size(); ++r) {
+    const SetEdge& e = euler_edges_[r];
+    if (r > 0 && euler_edges_[r - 1].a == e.a && euler_edges_[r - 1].b == e.b) continue;
+    bool in_before = false, out_before = false, in_after = false, out_after = false;
+    const auto start = state_.tri.incident_cells(e.cell, e.i, e.j);
+    auto c = start;
+    do {
+      const bool outside = c->info().outside();
+      const bool added = c->info().mark == mark;
+      in_before = in_before || outside;
+      out_before = out_before || !outside;
+      in_after = in_after || outside || added;
+      out_after = out_after || !(outside || added);
+    } while (++c != start);
+    change -= static_cast<int>(in_after && out_after);
+    change += static_cast<int>(in_before && out_before);
+  }
+  return change;
+}
+
+bool Grower::handleRuleAllows(const std::vector<CellHandle>& set) {
+  const int min_rays = state_.config.handle_min_rays;
+  if (min_rays <= 0) return true;
+  for (const CellHandle& cell : set) {
+    if (cell->info().crossings >= static_cast<std::uint32_t>(min_rays)) return true;
+  }
+  bool fills_cavity = false;
+  return boundaryEulerChange(set, fills_cavity) >= 0 || fills_cavity;
+}
+
 bool Grower::tryAddSet(std::vector<CellHandle>& set, UpdateStats& stats) {
   if (set.size() < 2 || !state_.outside.canAddAll(set)) return false;
+  if (!handleRuleAllows(set)) return false;
   for (const CellHandle& h : set) {
     state_.outside.add(h);
     ++stats.cells_grown;
@@ -236,6 +311,7 @@ void Grower::genusPass(UpdateStats& stats) {
     }
     if (to_add.size() < 2) continue;  // a single cell was already tried by the queue
     if (!state_.outside.canAddAll(to_add)) continue;
+    if (!handleRuleAllows(to_add)) continue;
     for (const CellHandle& cell : to_add) {
       state_.outside.add(cell);
       ++stats.cells_grown;

@@ -3,6 +3,7 @@
 #include <queue>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "grid_key.h"
@@ -21,6 +22,12 @@ class CheckpointAccess;
 /// vertex with it (issue 14: on the synthetic street it carves free space the single-cell, edge
 /// and vertex tests all refuse; docs/accuracy.md). The edge and ball passes count their cells in
 /// UpdateStats::edge_pass_cells and are switched off together (`edge_growing_pass`).
+///
+/// Handle control (`MesherConfig::handle_min_rays`, off at 0): a single cell that passes the vertex
+/// test never adds a handle (its contact with O is a disc or all of it); a set added at once (the
+/// edge, per-vertex and ball passes) can. Such a set is added only if some cell of it is crossed by
+/// at least that many rays, so tunnels carved by few rays through thin matter stay closed
+/// (docs/algorithms.md).
 class Grower {
  public:
   explicit Grower(MapState& state) : state_(state) {}
@@ -62,6 +69,15 @@ class Grower {
   /// kMaxBallAttemptsPerGrow per update.
   void ballPass(UpdateStats& stats);
   std::uint64_t neighbourhoodSignature(const CellHandle& cell) const;
+  /// Change of V - E + F of dO if all of `set` (none in O, finite, no duplicates) joined O.
+  /// Negative: the set closes a loop of O (genus + 1), joins two parts of O or fills a cavity.
+  /// O(|set| * edge degree).
+  /// `fills_cavity`: every facet of the set not shared by two of its cells is a facet of O.
+  int boundaryEulerChange(const std::vector<CellHandle>& set, bool& fills_cavity);
+  /// Whether `set` (which passed the manifold test) may be added under the handle rule: always
+  /// when the rule is off, when the addition keeps V - E + F of dO, fills a cavity, or some cell of
+  /// it is crossed by at least handle_min_rays rays.
+  bool handleRuleAllows(const std::vector<CellHandle>& set);
 
   static constexpr std::size_t kMaxBallAttemptsPerGrow = 32;
   static constexpr std::size_t kMaxBallRefusalsRemembered = 1u << 16;
@@ -75,6 +91,16 @@ class Grower {
   /// Cells the edge pass tried, for the ball pass.
   std::vector<CellHandle> ball_candidates_;
   std::vector<CellHandle> ball_;
+  /// An edge of a cell of the set whose Euler change is computed: its ends (ordered) and where.
+  struct SetEdge {
+    const Delaunay::Vertex* a;
+    const Delaunay::Vertex* b;
+    CellHandle cell;
+    int i;
+    int j;
+  };
+  std::vector<SetEdge> euler_edges_;
+  std::vector<VertexHandle> euler_vertices_;
   /// Cells whose ball was refused (by CellInfo::uid), with their neighbourhood signature then. The
   /// only Grower state kept from one update to the next (the rest is scratch), so it is part of
   /// checkpoints (checkpoint_records.cpp). Only looked up, never iterated: the passes do not depend

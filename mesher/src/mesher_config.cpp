@@ -65,6 +65,7 @@ void MesherConfig::setMode(MesherMode mode) {
   next_cell_cache = proposed_defaults.next_cell_cache;
   ray_scheduler = proposed_defaults.ray_scheduler;
   edge_growing_pass = proposed_defaults.edge_growing_pass;
+  handle_min_rays = proposed_defaults.handle_min_rays;
   steiner_clearance_steps = proposed_defaults.steiner_clearance_steps;
   if (mode == MesherMode::kProposed) return;
   // The baselines as the paper ran them: none of its techniques, and points inserted once at a
@@ -75,6 +76,7 @@ void MesherConfig::setMode(MesherMode mode) {
   next_cell_cache = false;
   ray_scheduler = false;
   edge_growing_pass = false;
+  handle_min_rays = 0;
   steiner_clearance_steps = 0.0;
   point_policy = PointPolicy::kFixedPosition;
   if (mode == MesherMode::kLitvinov13) {
@@ -104,6 +106,7 @@ std::vector<std::string> MesherConfig::problems() const {
           "enclosing_radius_cells must be in [1, 8]");
   require(std::isfinite(edge_pass_min_weight) && edge_pass_min_weight >= 0 && edge_pass_min_weight <= 1e6,
           "edge_pass_min_weight must be in [0, 1e6]");
+  require(handle_min_rays >= 0 && handle_min_rays <= 1000000, "handle_min_rays must be in [0, 1000000]");
   require(surface_history_max_bytes >= (std::size_t{1} << 16) && surface_history_max_bytes <= (std::size_t{1} << 40),
           "surface_history_max_bytes must be in [65536, 2^40] (64 KiB to 1 TiB)");
   require(camera_enclosing_radius_cells >= 0 && camera_enclosing_radius_cells <= 8,

@@ -182,6 +182,7 @@ TEST(CheckpointResume, ConfigurationComesBackWithTheState) {
   config.metres_per_unit = 0.5;
   config.min_views = 3;
   config.edge_pass_min_weight = 123.0;
+  config.handle_min_rays = 17;  // romanoni15's default is 0
   config.surface_history_max_bytes = 777777;
   Mesher mesher(config);
   const LoadedCheckpoint loaded = load(save(mesher));
@@ -190,6 +191,7 @@ TEST(CheckpointResume, ConfigurationComesBackWithTheState) {
   EXPECT_EQ(back.metres_per_unit, 0.5);
   EXPECT_EQ(back.min_views, 3);
   EXPECT_EQ(back.edge_pass_min_weight, 123.0);
+  EXPECT_EQ(back.handle_min_rays, 17);
   EXPECT_EQ(back.surface_history_max_bytes, 777777u);
   EXPECT_EQ(back.spread_cap, config.spread_cap);
   EXPECT_EQ(back.point_policy, config.point_policy);
