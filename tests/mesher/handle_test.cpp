@@ -83,32 +83,27 @@ Topology growScene(Tunnel tunnel, std::uint32_t tunnel_rays, int handle_min_rays
   return {topology.components, topology.total_genus, topology.isClosedManifold()};
 }
 
-TEST(HandleControl, WithoutTunnelTheSurfaceIsASphere) {
-  const Topology t = growScene(Tunnel::kNone, 0, 0);
+/// The grown surface is one closed 2-manifold with this many handles.
+void expectOneClosedSurfaceOfGenus(const Topology& t, int genus) {
   EXPECT_TRUE(t.closed_manifold);
   EXPECT_EQ(t.components, 1u);
-  EXPECT_EQ(t.genus, 0);
+  EXPECT_EQ(t.genus, genus);
+}
+
+TEST(HandleControl, WithoutTunnelTheSurfaceIsASphere) {
+  expectOneClosedSurfaceOfGenus(growScene(Tunnel::kNone, 0, 0), 0);
 }
 
 TEST(HandleControl, OffOpensAWeakTunnel) {
-  const Topology t = growScene(Tunnel::kWeak, 2, 0);
-  EXPECT_TRUE(t.closed_manifold);
-  EXPECT_EQ(t.components, 1u);
-  EXPECT_EQ(t.genus, 1);
+  expectOneClosedSurfaceOfGenus(growScene(Tunnel::kWeak, 2, 0), 1);
 }
 
 TEST(HandleControl, OnKeepsAWeakTunnelClosed) {
-  const Topology t = growScene(Tunnel::kWeak, 2, 10);
-  EXPECT_TRUE(t.closed_manifold);
-  EXPECT_EQ(t.components, 1u);
-  EXPECT_EQ(t.genus, 0);
+  expectOneClosedSurfaceOfGenus(growScene(Tunnel::kWeak, 2, 10), 0);
 }
 
 TEST(HandleControl, OnOpensAWellObservedTunnel) {
-  const Topology t = growScene(Tunnel::kStrong, kManyRays, 10);
-  EXPECT_TRUE(t.closed_manifold);
-  EXPECT_EQ(t.components, 1u);
-  EXPECT_EQ(t.genus, 1);
+  expectOneClosedSurfaceOfGenus(growScene(Tunnel::kStrong, kManyRays, 10), 1);
 }
 
 TEST(HandleControl, ThresholdIsInclusive) {
