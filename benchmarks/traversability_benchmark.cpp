@@ -187,9 +187,15 @@ void BM_LayersWhileMeshing(benchmark::State& state, const BenchStream* s, const 
   }
 }
 
-/// Full computation of the final street map (faces per second), setup excluded.
-void BM_FullComputation(benchmark::State& state, const BenchStream* s, const std::string& robot) {
-  const RobotProfile profile = loadRobotProfile(kRobots / (robot + ".yaml"));
+/// Full computation of the final street map (faces per second), setup excluded. With
+/// `no_extension`, measured obstacles are not grown by their possible extension (the evidence
+/// rule whose wider obstacle window costs most; the ratio of the two runs is its price).
+void BM_FullComputation(benchmark::State& state, const BenchStream* s, const std::string& robot, bool no_extension) {
+  RobotProfile profile = loadRobotProfile(kRobots / (robot + ".yaml"));
+  if (no_extension) {
+    profile.evidence.obstacle_extension = 0;
+    profile.evidence.max_obstacle_extension_m = 0;
+  }
   MapFrame frame;
   frame.up_W = s->up_W;
   mesher::Mesher mesher{mesher::MesherConfig{}};
@@ -215,8 +221,11 @@ void registerStream(const BenchStream* s, const std::vector<std::string>& robots
         ->Unit(benchmark::kSecond);
   }
   for (const std::string& robot : robots) {
-    benchmark::RegisterBenchmark(("BM_FullComputation/" + s->name + "/" + robot).c_str(), BM_FullComputation, s, robot)
-        ->Unit(benchmark::kMillisecond);
+    for (const bool no_extension : {false, true}) {
+      const std::string name = "BM_FullComputation/" + s->name + "/" + robot + (no_extension ? "/no_extension" : "");
+      benchmark::RegisterBenchmark(name.c_str(), BM_FullComputation, s, robot, no_extension)
+          ->Unit(benchmark::kMillisecond);
+    }
   }
 }
 

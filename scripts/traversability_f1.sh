@@ -8,14 +8,22 @@
 # repository. Writes under out/traversability_f1/ (or TERRAMESH_F1_OUT); with TERRAMESH_REUSE=1,
 # scenes and maps already there are not made again (only scored). TERRAMESH_F1_SCENES and
 # TERRAMESH_F1_ROBOTS (space-separated names) restrict the run, e.g. to split it over two
-# processes; TERRAMESH_F1_KITTI=0 skips KITTI 00.
+# processes; TERRAMESH_F1_SEEDS (default 1) lists the scene seeds; TERRAMESH_F1_MESH_ARGS adds
+# arguments to every `terramesh mesh` (e.g. --no-trajectory-evidence); TERRAMESH_F1_KITTI=0 skips
+# KITTI 00.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 terramesh=${TERRAMESH_BUILD:-build}/apps/terramesh/terramesh
 shared=${TERRAMESH_SHARED_DIR:-../shared}
 out=${TERRAMESH_F1_OUT:-out/traversability_f1}
 mkdir -p "$out"
-scenes=(${TERRAMESH_F1_SCENES:-street offroad garage})
+# The generator's camera rig is not KITTI's: for the synthetic scenes each profile is used without
+# its sensor mounting (car.yaml gives KITTI's 1.65 m), so the runs estimate it from the data.
+rigless="$out/profiles_without_mounting"
+mkdir -p "$rigless"
+scenes=(${TERRAMESH_F1_SCENES:-street offroad garage hazards})
+seeds=(${TERRAMESH_F1_SEEDS:-1})
+mesh_args=(${TERRAMESH_F1_MESH_ARGS:-})
 robots=()
 for robot_file in traversability/robots/*.yaml; do
   if [[ -z ${TERRAMESH_F1_ROBOTS:-} || " $TERRAMESH_F1_ROBOTS " == *" $(basename "$robot_file" .yaml) "* ]]; then
@@ -32,43 +40,87 @@ row() {
   awk -v scene="$1" -v robot="$2" '
     { v[$1] = $2 }
     END {
-      printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot,
-        v["precision"], v["recall"], v["f1"], v["coverage"], v["unknown_fraction"],
-        v["scored_m2"], v["truth_traversable_m2"]
+      printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot,
+        v["precision"], v["recall"], v["f1"], v["coverage"], v["free_coverage"], v["unknown_fraction"],
+        v["uncertain_fraction"], v["scored_m2"], v["truth_traversable_m2"]
     }' "$3"
 }
 
 # The worst-classified truth labels of a report: scored area of each label and its free share.
 labels() {
   awk '
-    /^label_[a-z]+_(free|lethal|unknown)_m2 / {
+    /^label_[a-z]+_(free|lethal|unknown|uncertain)_m2 / {
       split($1, part, "_"); area[part[2], part[3]] = $2; names[part[2]] = 1
     }
     END {
       for (n in names) {
-        total = area[n, "free"] + area[n, "lethal"] + area[n, "unknown"]
+        total = area[n, "free"] + area[n, "lethal"] + area[n, "unknown"] + area[n, "uncertain"]
         if (total <= 0) continue
-        printf "%s %.1f m2 (free %.2f lethal %.2f unknown %.2f); ", n, total,
-          area[n, "free"] / total, area[n, "lethal"] / total, area[n, "unknown"] / total
+        printf "%s %.1f m2 (free %.2f lethal %.2f unknown %.2f uncertain %.2f); ", n, total,
+          area[n, "free"] / total, area[n, "lethal"] / total, area[n, "unknown"] / total, area[n, "uncertain"] / total
       }
       printf "\n"
     }' "$1"
 }
 
-echo "## Synthetic scenes (seed 1): map faces within 0.5 m of the truth"
+echo "## Synthetic scenes (seeds ${seeds[*]}): map faces within 0.5 m of the truth"
 echo
-echo "| scene | robot | precision | recall | F1 | coverage | unknown fraction | scored m2 | truth traversable m2 |"
-echo "|---|---|---|---|---|---|---|---|---|"
-for scene in "${scenes[@]}"; do
-  [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$out/$scene/ground_truth.ply" ]] || "$terramesh" generate "$scene" -o "$out/$scene" --seed 1 --quiet
-  for robot_file in "${robots[@]}"; do
-    robot=$(basename "$robot_file" .yaml)
-    map="$out/${scene}_$robot"
-    [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$map/traversability.ply" ]] ||
-      "$terramesh" mesh "$out/$scene/stream.tmstream" --robot "$robot_file" -o "$map" --quiet
-    "$terramesh" traverse-eval "$map" --gt-mesh "$out/$scene/ground_truth.ply" \
-      --report "$out/${scene}_$robot.txt" --quiet
-    row "$scene" "$robot" "$out/${scene}_$robot.txt"
+echo "| scene | robot | precision | recall | F1 | coverage | free coverage | unknown fraction | uncertain fraction | scored m2 | truth traversable m2 |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
+for seed in "${seeds[@]}"; do
+  for base in "${scenes[@]}"; do
+    scene=$base
+    [[ $seed == 1 ]] || scene="${base}_seed$seed"
+    [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$out/$scene/ground_truth.ply" ]] ||
+      "$terramesh" generate "$base" -o "$out/$scene" --seed "$seed" --quiet
+    for robot_file in "${robots[@]}"; do
+      robot=$(basename "$robot_file" .yaml)
+      map="$out/${scene}_$robot"
+      grep -v -E '^(sensor_height_m|sensor_pose_in_base)' "$robot_file" > "$rigless/$robot.yaml"
+      [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$map/traversability.ply" ]] ||
+        "$terramesh" mesh "$out/$scene/stream.tmstream" --robot "$rigless/$robot.yaml" -o "$map" --quiet "${mesh_args[@]}"
+      "$terramesh" traverse-eval "$map" --gt-mesh "$out/$scene/ground_truth.ply" \
+        --report "$out/${scene}_$robot.txt" --quiet
+      row "$scene" "$robot" "$out/${scene}_$robot.txt"
+    done
+  done
+done
+
+# The robot's swept footprint on each synthetic scene: the map under the camera path, within the
+# footprint's half-width (disc: radius) of it, and how far its free part lies from the truth. The
+# camera height is the run's own estimate (summary.txt), 1.65 m where the run made none.
+echo
+echo "## Synthetic scenes: the swept footprint (map under the path, within the robot's half-width)"
+echo
+echo "| scene | robot | free | lethal | unknown | uncertain | free: truth distance median m | p90 m |"
+echo "|---|---|---|---|---|---|---|---|"
+half_width() {
+  awk '/^ *radius_m:/ { r = $2 } /^ *width_m:/ { w = $2 / 2 } END { print (w > 0 ? w : r) }' "$1"
+}
+for seed in "${seeds[@]}"; do
+  for base in ${TERRAMESH_F1_SCENES:-street offroad garage hazards}; do
+    scene=$base
+    [[ $seed == 1 ]] || scene="${base}_seed$seed"
+    for robot_file in "${robots[@]}"; do
+      robot=$(basename "$robot_file" .yaml)
+      map="$out/${scene}_$robot"
+      height=$(sed -n 's/.*sensor height \([0-9.]*\).*/\1/p' "$map/summary.txt" | head -1)
+      "$terramesh" traverse-eval "$map" --gt-mesh "$out/$scene/ground_truth.ply" \
+        --road-under-path "$out/$scene/stream.tmstream" --camera-height-m "${height:-1.65}" \
+        --lateral-m "$(half_width "$robot_file")" --report "$out/${scene}_${robot}_swept.txt" --quiet
+      awk -v scene="$scene" -v robot="$robot" '{ v[$1] = $2 } END {
+          printf "| %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot, v["road_free_fraction"],
+            v["road_lethal_fraction"], v["road_unknown_fraction"], v["road_uncertain_fraction"],
+            v["road_free_truth_distance_median_m"], v["road_free_truth_distance_p90_m"]
+        }' "$out/${scene}_${robot}_swept.txt"
+    done
+  done
+done
+
+scenes=()
+for seed in "${seeds[@]}"; do
+  for base in ${TERRAMESH_F1_SCENES:-street offroad garage hazards}; do
+    if [[ $seed == 1 ]]; then scenes+=("$base"); else scenes+=("${base}_seed$seed"); fi
   done
 done
 echo
@@ -87,17 +139,18 @@ if [[ ${TERRAMESH_F1_KITTI:-1} == 0 ]]; then exit 0; fi
 echo
 echo "## KITTI 00 (ORB-SLAM, 50 frames): the road under the camera path"
 echo
-echo "| robot | free | lethal | unknown | road m2 | path m |"
-echo "|---|---|---|---|---|---|"
+echo "| robot | free | lethal | unknown | uncertain | road m2 | path m |"
+echo "|---|---|---|---|---|---|---|"
 stream=$shared/data/kitti00_orbslam/slam_data_version0.1_KITTI00_50frames.json
 for robot_file in "${robots[@]}"; do
   robot=$(basename "$robot_file" .yaml)
   map="$out/kitti00_$robot"
   [[ ${TERRAMESH_REUSE:-0} == 1 && -f "$map/traversability.ply" ]] ||
-    "$terramesh" mesh "$stream" --robot "$robot_file" --metres-per-unit 16.589 -o "$map" --quiet
+    "$terramesh" mesh "$stream" --robot "$robot_file" --metres-per-unit 16.589 -o "$map" --quiet "${mesh_args[@]}"
   "$terramesh" traverse-eval "$map" --road-under-path "$stream" --report "$out/kitti00_$robot.txt" --quiet
   awk -v robot="$robot" '{ v[$1] = $2 } END {
-      printf "| %s | %s | %s | %s | %.1f | %s |\n", robot, v["road_free_fraction"], v["road_lethal_fraction"],
-        v["road_unknown_fraction"], v["road_free_m2"] + v["road_lethal_m2"] + v["road_unknown_m2"], v["path_length_m"]
+      printf "| %s | %s | %s | %s | %s | %.1f | %s |\n", robot, v["road_free_fraction"], v["road_lethal_fraction"],
+        v["road_unknown_fraction"], v["road_uncertain_fraction"],
+        v["road_free_m2"] + v["road_lethal_m2"] + v["road_unknown_m2"] + v["road_uncertain_m2"], v["path_length_m"]
     }' "$out/kitti00_$robot.txt"
 done

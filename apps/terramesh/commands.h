@@ -23,5 +23,6 @@ int runView(const std::vector<std::string>& args);
 int runPlan(const std::vector<std::string>& args);
 int runCompare(const std::vector<std::string>& args);
 int runConvert(const std::vector<std::string>& args);
+int runPairs(const std::vector<std::string>& args);
 
 }  // namespace terramesh::cli

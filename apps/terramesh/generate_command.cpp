@@ -13,6 +13,7 @@
 #include "datasets/kitti_odometry_reader.h"
 #include "datasets/kitti_trajectory.h"
 #include "datasets/labeled_mesh.h"
+#include "datasets/slam_density.h"
 #include "datasets/slam_json.h"
 #include "datasets/slam_simulation.h"
 #include "datasets/stream_format.h"
@@ -38,6 +39,7 @@ struct GenerateOptions {
   std::optional<long> keyframe_every;
   std::optional<long> points_per_keyframe;
   std::map<std::string, double> reals;  ///< the simulation's real-valued options that were given
+  bool measure_density = false;
   bool quiet = false;
 
   double lengthM() const { return std::stod(*length_m); }
@@ -65,7 +67,7 @@ const RealOption kRealOptions[] = {
      &SlamSimulationConfig::loop_closure_drift_m}};
 
 void declareOptions(CLI::App& app, GenerateOptions& options) {
-  app.add_option("SCENE", options.scene, "street, offroad or garage")->required();
+  app.add_option("SCENE", options.scene, "street, offroad, garage or hazards")->required();
   app.add_option("-o,--output", options.output, "output directory (created if missing)")->option_text("DIR");
   app.add_option("--preset", options.preset,
                  "kitti-like (issue 3's benchmark stream: a keyframe every 4 frames, ~130 new points "
@@ -78,7 +80,7 @@ void declareOptions(CLI::App& app, GenerateOptions& options) {
       ->option_text("A:B");
   app.add_option("--length-m", options.length_m,
                  "scene length: street 300, offroad 200, garage 48 (its x extent); with --kitti-poses "
-                 "the trajectory is cut after L metres (default: all)")
+                 "the trajectory is cut after L metres (default: all); hazards has a fixed 72 x 36 m plan")
       ->option_text("L")
       ->check(CLI::Number);
   app.add_option("--seed", options.seed, "seed of the scene and of the simulated SLAM")->check(nonNegativeNumber());
@@ -97,6 +99,9 @@ void declareOptions(CLI::App& app, GenerateOptions& options) {
            name, [&options, name](double value) { options.reals[name] = value; }, real.help)
         ->option_text("X");
   }
+  app.add_flag("--measure-density", options.measure_density,
+               "also measure the stream's points per m^2 of the ground its keyframes see and its point errors "
+               "(generation.txt: ground_*; slow on long scenes)");
   app.add_flag("--quiet", options.quiet, "print nothing but errors");
 }
 
@@ -113,7 +118,8 @@ std::pair<std::size_t, std::size_t> parseFrameRange(const std::string& text) {
 }
 
 SlamSimulationConfig simulationConfig(const GenerateOptions& options) {
-  SlamSimulationConfig config;
+  // Each scene's own SLAM defaults; the options below override them.
+  SlamSimulationConfig config = options.scene == "hazards" ? datasets::hazardsSlamConfig() : SlamSimulationConfig{};
   if (options.preset) {
     if (*options.preset == "kitti-like") config = datasets::kittiLikeSlamConfig();
     else if (*options.preset == "kitti-dense") config = datasets::kittiDenseSlamConfig();
@@ -159,6 +165,13 @@ datasets::SyntheticScene buildScene(const GenerateOptions& options, std::string&
   };
   if (name == "offroad") return datasets::buildOffroadScene(common(datasets::OffroadSceneConfig{}));
   if (name == "garage") return datasets::buildGarageScene(common(datasets::GarageSceneConfig{}));
+  if (name == "hazards") {
+    if (options.length_m) throw UsageError("generate: --length-m does not apply to the hazards scene (fixed plan)");
+    datasets::HazardsSceneConfig config;
+    config.seed = seed;
+    config.object_density = density;
+    return datasets::buildHazardsScene(config);
+  }
   if (name == "street") {
     datasets::StreetSceneConfig config = common(datasets::StreetSceneConfig{});
     if (!kitti) return datasets::buildStreetScene(config);
@@ -174,7 +187,7 @@ datasets::SyntheticScene buildScene(const GenerateOptions& options, std::string&
     source = "kitti_poses " + file + " frames " + range;
     return datasets::buildStreetScene(config, poses);
   }
-  throw UsageError("generate: SCENE must be street, offroad or garage, got \"" + name + "\"");
+  throw UsageError("generate: SCENE must be street, offroad, garage or hazards, got \"" + name + "\"");
 }
 
 std::string describeRun(const datasets::SyntheticScene& scene, const std::string& source,
@@ -192,7 +205,8 @@ std::string describeRun(const datasets::SyntheticScene& scene, const std::string
       << "\nkeyframe_spacing_m " << config.keyframe_spacing_m << "\nkeyframe_every_frames "
       << config.keyframe_every_frames << "\nimage_px " << config.image_width_px << ' '
       << config.image_height_px << "\nfocal_length_px " << config.focal_length_px << "\nrange_m "
-      << config.min_range_m << ' ' << config.max_range_m << "\nnew_points_per_keyframe "
+      << config.min_range_m << ' ' << config.max_range_m << "\nmax_incidence_deg " << config.max_incidence_deg
+      << "\nnew_points_per_keyframe "
       << config.new_points_per_keyframe << "\nmatch_probability " << config.match_probability
       << "\nmax_missed_keyframes " << config.max_missed_keyframes << "\nmax_scale_change "
       << config.max_scale_change << "\nmax_view_angle_deg " << config.max_view_angle_deg
@@ -218,6 +232,34 @@ std::string describeRun(const datasets::SyntheticScene& scene, const std::string
   return out.str();
 }
 
+/// One line per hazard: what, where, how big, and the start and goal placed to test it.
+std::string describeHazards(const std::vector<datasets::SceneHazard>& hazards) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "name,kind,centre_x,centre_y,centre_z,size_x_m,size_y_m,height_m,ramp_slope_deg,ramp_length_m,"
+         "ramp_width_m,start_x,start_y,start_z,goal_x,goal_y,goal_z\n";
+  for (const datasets::SceneHazard& h : hazards) {
+    out << h.name << ',' << datasets::toString(h.kind) << ',' << h.centre_W.x() << ',' << h.centre_W.y() << ','
+        << h.centre_W.z() << ',' << h.size_m.x() << ',' << h.size_m.y() << ',' << h.height_m << ','
+        << h.ramp_slope_deg << ',' << h.ramp_length_m << ',' << h.ramp_width_m << ',' << h.start_W.x() << ','
+        << h.start_W.y() << ',' << h.start_W.z() << ',' << h.goal_W.x() << ',' << h.goal_W.y() << ','
+        << h.goal_W.z() << '\n';
+  }
+  return out.str();
+}
+
+std::string describeDensity(const datasets::GroundDensity& density) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "ground_area_m2 " << density.ground_area_m2 << "\nground_seen_m2 " << density.seen_area_m2
+      << "\nground_points " << density.ground_points << "\nground_points_seen_twice "
+      << density.ground_points_seen_twice << "\nground_points_per_m2_seen " << density.points_per_m2
+      << "\nground_points_seen_twice_per_m2_seen " << density.points_seen_twice_per_m2
+      << "\npoint_error_rms_m " << density.rms_error_m << "\npoint_error_median_m " << density.median_error_m
+      << '\n';
+  return out.str();
+}
+
 }  // namespace
 
 int runGenerate(const std::vector<std::string>& args) {
@@ -225,8 +267,8 @@ int runGenerate(const std::vector<std::string>& args) {
   app.option_defaults()->always_capture_default();
   app.footer(
       "writes DIR/stream.tmstream, DIR/stream.json, DIR/ground_truth.ply (labels and slopes per face), "
-      "DIR/trajectory.txt (true keyframe poses, KITTI format, line i = keyframe i) and DIR/generation.txt (see "
-      "docs/synthetic_data.md)");
+      "DIR/trajectory.txt (true keyframe poses, KITTI format, line i = keyframe i), DIR/generation.txt and, "
+      "for hazards, DIR/hazards.csv (each hazard with a start and goal across it; see docs/synthetic_data.md)");
   GenerateOptions options;
   declareOptions(app, options);
   if (!parseCommandLine(app, args)) return kExitOk;
@@ -247,8 +289,12 @@ int runGenerate(const std::vector<std::string>& args) {
   datasets::PoseList keyframe_poses;
   for (const datasets::SimulatedKeyframe& keyframe : slam.keyframes) keyframe_poses.push_back(keyframe.true_T_W_C);
   datasets::writeKittiPoses(output / "trajectory.txt", keyframe_poses);
-  const std::string description = describeRun(scene, source, options, config, slam);
+  std::string description = describeRun(scene, source, options, config, slam);
+  if (options.measure_density) {
+    description += describeDensity(datasets::measureGroundDensity(scene, bvh, slam, config));
+  }
   writeFileAtomically(output / "generation.txt", description);
+  if (!scene.hazards.empty()) writeFileAtomically(output / "hazards.csv", describeHazards(scene.hazards));
   if (!options.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     const double keyframes = static_cast<double>(std::max<std::size_t>(slam.stats.keyframes, 1));

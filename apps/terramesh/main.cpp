@@ -31,10 +31,12 @@ const Command kCommands[] = {
      terramesh::cli::runView},
     {"plan", "drivable path on a traversability map (OMPL on the surface; exit 3 if unreachable)",
      terramesh::cli::runPlan},
-    {"generate", "synthetic SLAM stream with ground truth (street, offroad, garage)", terramesh::cli::runGenerate},
+    {"generate", "synthetic SLAM stream with ground truth (street, offroad, garage, hazards)", terramesh::cli::runGenerate},
     {"compare", "mesher vs OctoMap vs PCL surfaces on one stream: time, memory, accuracy, manifoldness, traversability, planning",
      terramesh::cli::runCompare},
     {"convert", "maps to and from PCL (PolygonMesh, PCD) and OctoMap (.bt), by extension", terramesh::cli::runConvert},
+    {"pairs", "start/goal pairs on a labelled ground truth with whether the truth joins them for a robot",
+     terramesh::cli::runPairs},
 };
 
 void printUsage(std::ostream& out) {

@@ -15,8 +15,9 @@ namespace {
 
 // The run state travels as the checkpoint's application data: "key value" lines, the totals as
 // raw bytes in hex (their layout is this build's: a checkpoint is resumed by the build that wrote
-// it), then the CSV after a "csv" line.
-constexpr const char* kStateTag = "terramesh-mesh-run 1";
+// it), the trajectory evidence settings (TrajectoryEvidenceRun::settings), then the CSV after a
+// "csv" line.
+constexpr const char* kStateTag = "terramesh-mesh-run 2";
 static_assert(std::is_trivially_copyable_v<mesher::UpdateStats>);
 
 class Fnv {
@@ -66,7 +67,8 @@ std::string encode(const MeshRunState& state) {
   std::ostringstream out;
   out << kStateTag << "\nfingerprint " << state.stream_fingerprint << "\nevents " << state.events << "\nnext_event "
       << state.next_event << "\nkeyframes " << state.keyframes << "\ntotals " << sizeof(state.totals) << ' '
-      << toHex(&state.totals, sizeof(state.totals)) << "\ncsv\n"
+      << toHex(&state.totals, sizeof(state.totals)) << "\ntrajectory_evidence " << state.trajectory_evidence
+      << "\ncsv\n"
       << state.csv;
   return out.str();
 }
@@ -98,6 +100,11 @@ MeshRunState decode(const std::string& text, const std::string& file) {
     throw InputError(file, "run state.totals", "statistics of another terramesh build; resume with the build that wrote it");
   }
   in.ignore(1);
+  field("trajectory_evidence");
+  in.ignore(1);
+  if (!std::getline(in, state.trajectory_evidence) || state.trajectory_evidence.empty()) {
+    throw InputError(file, "run state.trajectory_evidence", "expected the trajectory evidence settings");
+  }
   if (!std::getline(in, line) || line != "csv") throw InputError(file, "run state", "expected the \"csv\" line");
   state.csv.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   if (state.next_event > state.events) throw InputError(file, "run state.next_event", "an event index within the stream");

@@ -24,6 +24,8 @@ struct MeshRunState {
   std::size_t keyframes = 0;             ///< keyframe events applied
   mesher::UpdateStats totals;            ///< summed over the applied events
   std::string csv;                       ///< keyframes.csv so far, header included
+  /// TrajectoryEvidenceRun::settings() of the run ("off" or the height and layout of the samples).
+  std::string trajectory_evidence = "off";
 };
 
 /// FNV-1a over every event's kind, ids, poses and observations: tells whether a resume reads the

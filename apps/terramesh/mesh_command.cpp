@@ -8,6 +8,7 @@
 #include "cli_args.h"
 #include "commands.h"
 #include "common/atomic_file.h"
+#include "common/input_error.h"
 #include "datasets/stream_reader.h"
 #include "mesher/mesh_io.h"
 #include "mesher/mesher.h"
@@ -18,6 +19,7 @@
 #include "stop_signal.h"
 #include "stats_table.h"
 #include "run_extras.h"
+#include "trajectory_evidence_run.h"
 #include "traversability_session.h"
 
 namespace terramesh::cli {
@@ -69,6 +71,7 @@ int runMesh(const std::vector<std::string>& args) {
   InputOptions input_options;
   MesherOptions mesher_options;
   TraversabilitySessionOptions traversability_options;
+  TrajectoryEvidenceOptions evidence_options;
   app.add_option("INPUT", input_path,
                  "SLAM stream: the authors' JSON (.json), terramesh's (.tmstream), OpenMVG sfm_data.json, Bundler "
                  ".out, or a COLMAP or KITTI directory")
@@ -93,6 +96,7 @@ int runMesh(const std::vector<std::string>& args) {
   addInputOptions(app, input_options);
   addMesherOptions(app, mesher_options);
   TraversabilitySession::addOptions(app, traversability_options);
+  addTrajectoryEvidenceOptions(app, evidence_options);
   if (!parseCommandLine(app, args)) return kExitOk;
   if (output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
   if (format != "ply" && format != "obj") throw UsageError("mesh: --format must be ply or obj");
@@ -110,6 +114,13 @@ int runMesh(const std::vector<std::string>& args) {
   const std::filesystem::path output = output_dir;
   std::optional<TraversabilitySession> traversability =
       TraversabilitySession::fromOptions(traversability_options, stream, config.metres_per_unit, output);
+  TrajectoryEvidenceRun evidence =
+      TrajectoryEvidenceRun::fromOptions(evidence_options, stream, traversability ? &*traversability : nullptr);
+  if (resumed && resumed->state.trajectory_evidence != evidence.settings()) {
+    throw InputError(*resume_path, "run state.trajectory_evidence",
+                     "made with trajectory evidence \"" + resumed->state.trajectory_evidence + "\", this run has \"" +
+                         evidence.settings() + "\"; resume with the robot and evidence options of the interrupted run");
+  }
   std::filesystem::create_directories(output);
   if (snapshot_every > 0) std::filesystem::create_directories(output / "snapshots");
 
@@ -117,8 +128,12 @@ int runMesh(const std::vector<std::string>& args) {
   if (resumed) run = resumed->state;
   run.events = stream.events.size();
   if (checkpoint_every > 0 && !resumed) run.stream_fingerprint = streamFingerprint(stream);
+  run.trajectory_evidence = evidence.settings();
   mesher::Mesher mesher = resumed ? std::move(resumed->mesher) : mesher::Mesher(config);
   if (traversability && resumed) traversability->resume(mesher, run.keyframes);
+  if (resumed) evidence.replay(stream, run.next_event);
+  if (!quiet && !evidence.summary().empty()) std::cerr << "terramesh: " << evidence.summary() << '\n';
+  if (!quiet && evidence.warning()) std::cerr << "terramesh: warning: " << *evidence.warning() << '\n';
   std::ostringstream csv;
   csv << (resumed ? run.csv : updateCsvHeader() + "\n");
   mesher::UpdateStats totals = run.totals;
@@ -138,7 +153,7 @@ int runMesh(const std::vector<std::string>& args) {
   ProgressBar progress("meshing", stream.events.size());
   for (std::size_t i = first_event; i < stream.events.size(); ++i) {
     const datasets::StreamEvent& event = stream.events[i];
-    const mesher::UpdateStats stats = datasets::applyEvent(mesher, event);
+    const mesher::UpdateStats stats = evidence.apply(mesher, event);
     totals += stats;
     std::uint64_t id = 0;
     const std::string kind = eventKind(event, id);
@@ -205,6 +220,12 @@ int runMesh(const std::vector<std::string>& args) {
             << " boundary edges, " << open_topology.non_manifold_vertices
             << " non-manifold vertices)\n";
   }
+  if (!evidence.summary().empty()) summary << evidence.summary() << '\n';
+  if (evidence.enabled()) {
+    summary << "trajectory evidence: " << evidence.contradictedPoints()
+            << " SLAM point(s) inside the robot's body where it drove, dropped as outliers\n";
+  }
+  if (evidence.warning()) summary << "warning: " << *evidence.warning() << '\n';
   if (traversability) traversability->finish(mesher, summary);
   writeFileAtomically(output / "summary.txt", summary.str());
   if (!quiet) std::cout << summary.str();

@@ -131,7 +131,7 @@ int runPlan(const std::vector<std::string>& args) {
   std::uint32_t seed = 1;
   std::optional<std::size_t> random_pairs;
   std::optional<std::string> robot;
-  bool no_simplify = false, quiet = false, allow_unknown = false;
+  bool no_simplify = false, quiet = false, allow_unknown = false, allow_uncertain = false;
   app.add_option("MAP_DIR", map_dir,
                  "map directory written by terramesh traverse (traversability.ply, robot.yaml, map_frame.yaml)")
       ->required();
@@ -150,6 +150,9 @@ int runPlan(const std::vector<std::string>& args) {
                "drive over unknown faces too (Nav2's allow_unknown), at --unknown-cost; never over lethal ones");
   app.add_option("--unknown-cost", unknown_cost, "cost in [0, 1] of an unknown face with --allow-unknown")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_flag("--allow-uncertain", allow_uncertain,
+               "drive over uncertain faces too (measured, the evidence cannot decide), at the profile's "
+               "evidence.uncertain_cost");
   app.add_option("--seed", seed, "random seed (> 0)")->check(positiveNumber());
   app.add_option("--snap-radius-m", snap_radius_m, "start and goal must lie this close to a walkable face");
   app.add_option("--random-pairs", random_pairs, "plan between N random pairs instead; writes benchmark.log and pairs.csv")
@@ -189,6 +192,7 @@ int runPlan(const std::vector<std::string>& args) {
   walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
   walkability.allow_unknown = allow_unknown;
   walkability.unknown_cost = unknown_cost;
+  walkability.allow_uncertain = allow_uncertain;
   const planning::FaceGraph graph(map.map, walkability);
   planning::setOmplLogging(false);
   planning::seedOmpl(config.seed);

@@ -66,6 +66,9 @@ class TraversabilitySession {
 
   /// Where "up" came from, for the summary.
   const std::string& upSource() const { return up_source_; }
+  const traversability::RobotProfile& profile() const { return profile_; }
+  /// Up and scale of the map.
+  const traversability::MapFrame& frame() const { return map_->frame(); }
 
  private:
   TraversabilitySession(traversability::RobotProfile profile, traversability::MapFrame frame,

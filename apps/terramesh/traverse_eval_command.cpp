@@ -92,7 +92,8 @@ std::string labelName(std::size_t label) {
 void reportAreas(std::ostream& out, const std::string& prefix, const evaluation::ClassAreas& areas) {
   out << prefix << "_free_m2 " << fixed(areas.free_m2, 3) << '\n'
       << prefix << "_lethal_m2 " << fixed(areas.lethal_m2, 3) << '\n'
-      << prefix << "_unknown_m2 " << fixed(areas.unknown_m2, 3) << '\n';
+      << prefix << "_unknown_m2 " << fixed(areas.unknown_m2, 3) << '\n'
+      << prefix << "_uncertain_m2 " << fixed(areas.uncertain_m2, 3) << '\n';
 }
 
 void reportRobot(std::ostream& out, const evaluation::RobotLimits& robot) {
@@ -105,7 +106,8 @@ void reportRobot(std::ostream& out, const evaluation::RobotLimits& robot) {
 
 /// Why the map calls a face what it does: free, unknown, or the first of the profile's limits a
 /// lethal face exceeds (a diagnosis of false negatives; the map's own layers, not the truth).
-const char* const kGroupNames[] = {"free", "unknown", "slope", "step", "roughness", "contact", "clearance", "other"};
+const char* const kGroupNames[] = {"free",    "unknown",   "slope", "step",     "roughness",
+                                   "contact", "clearance", "other", "uncertain"};
 
 std::vector<std::uint8_t> lethalCauses(const traversability::LayeredMesh& map,
                                        const traversability::RobotProfile& profile) {
@@ -115,6 +117,7 @@ std::vector<std::uint8_t> lethalCauses(const traversability::LayeredMesh& map,
     std::uint8_t group = 7;
     if (l.face_class == traversability::FaceClass::kFree) group = 0;
     else if (l.face_class == traversability::FaceClass::kUnknown) group = 1;
+    else if (l.face_class == traversability::FaceClass::kUncertain) group = 8;
     else if (l.slope_deg > profile.max_slope_deg) group = 2;
     else if (l.step_m > profile.max_step_m) group = 3;
     else if (l.roughness_m > profile.max_roughness_m) group = 4;
@@ -172,7 +175,10 @@ void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::Lay
          << "recall " << fixed(score.recall) << '\n'
          << "f1 " << fixed(score.f1) << '\n'
          << "coverage " << fixed(score.coverage) << '\n'
-         << "unknown_fraction " << fixed(score.unknown_fraction) << '\n';
+         << "unknown_fraction " << fixed(score.unknown_fraction) << '\n'
+         << "uncertain_m2 " << fixed(score.uncertain_m2, 3) << '\n'
+         << "uncertain_fraction " << fixed(score.uncertain_fraction) << '\n'
+         << "free_coverage " << fixed(score.free_coverage) << '\n';
   reportAreas(report, "truth_traversable", score.by_truth[1]);
   reportAreas(report, "truth_not_traversable", score.by_truth[0]);
   for (std::size_t label = 0; label < score.by_label.size(); ++label) {
@@ -186,10 +192,10 @@ void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::Lay
     }
   }
   // False negatives (truth traversable, map lethal) and true negatives by the map's cause.
-  for (std::size_t g = 2; g < score.by_group.size(); ++g) {
+  for (std::size_t g = 2; g < score.by_group.size() && g < 8; ++g) {
     report << "false_negative_by_map_" << kGroupNames[g] << "_m2 " << fixed(score.by_group[g][1].lethal_m2, 3) << '\n';
   }
-  for (std::size_t g = 2; g < score.by_group.size(); ++g) {
+  for (std::size_t g = 2; g < score.by_group.size() && g < 8; ++g) {
     report << "true_negative_by_map_" << kGroupNames[g] << "_m2 " << fixed(score.by_group[g][0].lethal_m2, 3) << '\n';
   }
   for (std::size_t r = 0; r < score.by_reason.size(); ++r) {
@@ -216,7 +222,7 @@ void keyframePath(const datasets::SlamStream& stream, std::vector<Eigen::Vector3
 
 /// The map's classes on the road under the camera path (real data).
 void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversability::LayeredMesh& map,
-                           std::ostream& report) {
+                           std::ostream& report, const mesher::TriangleMesh* truth_m) {
   const std::string& stream_path = *options.road_under_path;
   const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
   std::vector<Eigen::Vector3d> positions;
@@ -229,7 +235,7 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
   config.lateral_m = options.lateral_m;
   config.height_tolerance_m = options.height_tolerance_m;
   config.sample_edge_m = options.sample_edge_m;
-  const evaluation::RoadUnderPath road = evaluation::roadUnderPath(map, positions, up, config);
+  const evaluation::RoadUnderPath road = evaluation::roadUnderPath(map, positions, up, config, truth_m);
   report << "path " << stream_path << '\n'
          << "path_keyframes " << positions.size() << '\n'
          << "path_length_m " << fixed(road.path_length_m, 2) << '\n'
@@ -241,7 +247,12 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
   reportAreas(report, "road", road.areas);
   report << "road_free_fraction " << fixed(road.free_fraction) << '\n'
          << "road_lethal_fraction " << fixed(road.lethal_fraction) << '\n'
-         << "road_unknown_fraction " << fixed(road.unknown_fraction) << '\n';
+         << "road_unknown_fraction " << fixed(road.unknown_fraction) << '\n'
+         << "road_uncertain_fraction " << fixed(road.uncertain_fraction) << '\n';
+  if (truth_m) {
+    report << "road_free_truth_distance_median_m " << fixed(road.free_truth_distance_median_m) << '\n'
+           << "road_free_truth_distance_p90_m " << fixed(road.free_truth_distance_p90_m) << '\n';
+  }
 }
 
 }  // namespace
@@ -258,15 +269,18 @@ int runTraverseEval(const std::vector<std::string>& args) {
                  "Map pieces within --max-distance-m of the truth take the answer of the nearest truth face; "
                  "known pieces give area-weighted precision, recall and F1 of free vs traversable; coverage is "
                  "the truth's traversable area with a known map face within --max-distance-m.\n"
-                 "With --road-under-path: the free / lethal / unknown shares of the map surface within "
-                 "--lateral-m of the keyframe path and --camera-height-m below it (metres via the map's "
-                 "metres_per_unit; up from the keyframes' orientations).");
+                 "With --road-under-path: the free / lethal / unknown / uncertain shares of the map surface "
+                 "within --lateral-m of the keyframe path and --camera-height-m below it (metres via the map's "
+                 "metres_per_unit; up from the keyframes' orientations); with --gt-mesh too, also how far the "
+                 "free part lies from the truth (median and 90th percentile).");
   TraverseEvalOptions options;
   declareOptions(app, options);
   if (!parseCommandLine(app, args)) return kExitOk;
   const bool truth_mode = options.gt_mesh.has_value();
-  if (truth_mode == options.road_under_path.has_value()) {
-    throw UsageError("traverse-eval: give exactly one of --gt-mesh and --road-under-path");
+  const bool road_mode = options.road_under_path.has_value();
+  if (!truth_mode && !road_mode) throw UsageError("traverse-eval: give --gt-mesh, --road-under-path or both");
+  if (truth_mode && road_mode && options.sim3) {
+    throw UsageError("traverse-eval: --road-under-path with --gt-mesh needs the map in the truth's frame (no --sim3)");
   }
   const std::filesystem::path dir = options.map_dir;
   traversability::MapDirectory loaded = traversability::readMapDirectory(dir);
@@ -275,10 +289,12 @@ int runTraverseEval(const std::vector<std::string>& args) {
   std::ostringstream report;
   report << "map " << dir.string() << '\n' << "map_faces " << loaded.map.mesh.faces.size() << '\n';
   reportRobot(report, robot);
-  if (truth_mode) {
-    evaluateAgainstMesh(options, std::move(loaded.map), loaded.profile, report);
-  } else {
-    evaluateRoadUnderPath(options, loaded.map, report);
+  if (truth_mode) evaluateAgainstMesh(options, loaded.map, loaded.profile, report);
+  if (road_mode) {
+    // With a truth too: how far the free road under the path lies from the true surface.
+    const std::optional<datasets::LabeledMesh> truth =
+        truth_mode ? std::optional<datasets::LabeledMesh>(datasets::readLabeledPly(*options.gt_mesh)) : std::nullopt;
+    evaluateRoadUnderPath(options, loaded.map, report, truth ? &truth->mesh : nullptr);
   }
   if (options.report) writeFileAtomically(*options.report, report.str());
   if (!options.quiet) std::cout << report.str();

@@ -3,15 +3,31 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "datasets/triangle_bvh.h"
 #include "evaluation/mesh_refinement.h"
 
 namespace terramesh::evaluation {
 namespace {
 
 double ratio(double num, double den) { return den > 0 ? num / den : std::numeric_limits<double>::quiet_NaN(); }
+
+/// The value below which `share` of the total weight lies ((value, weight) pairs; NaN if empty).
+double weightedQuantile(std::vector<std::pair<double, double>> values, double share) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  double total = 0;
+  for (const auto& v : values) total += v.second;
+  double sum = 0;
+  for (const auto& v : values) {
+    sum += v.second;
+    if (sum >= share * total) return v.first;
+  }
+  return values.back().first;
+}
 
 }  // namespace
 
@@ -37,7 +53,8 @@ Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rot
 }
 
 RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
-                            const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config) {
+                            const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config,
+                            const mesher::TriangleMesh* truth_m) {
   config.validate();
   if (path_W.size() < 2) throw std::invalid_argument("roadUnderPath: the path needs at least 2 points");
   if (!(up_W.norm() > 0) || !up_W.allFinite()) throw std::invalid_argument("roadUnderPath: up_W must be non-zero");
@@ -56,6 +73,9 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
   mesher::TriangleMesh metric = map.mesh;
   for (Eigen::Vector3d& v : metric.vertices) v *= scale;
   const RefinedMesh pieces = refineMesh(metric, config.sample_edge_m);
+  const std::unique_ptr<datasets::TriangleBvh> truth =
+      truth_m && !truth_m->faces.empty() ? std::make_unique<datasets::TriangleBvh>(*truth_m) : nullptr;
+  std::vector<std::pair<double, double>> free_distances;
   auto horizontal = [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(v - up.dot(v) * up); };
   for (std::size_t p = 0; p < pieces.mesh.faces.size(); ++p) {
     const Eigen::Vector3d centroid = faceCentroid(pieces.mesh, p);
@@ -79,14 +99,21 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
     if (std::abs(below - config.camera_height_m) > config.height_tolerance_m) continue;
     const double area = faceArea(pieces.mesh, p);
     switch (map.layers[pieces.parent_face[p]].face_class) {
-      case traversability::FaceClass::kFree: out.areas.free_m2 += area; break;
+      case traversability::FaceClass::kFree:
+        out.areas.free_m2 += area;
+        if (truth) free_distances.emplace_back(truth->closestPoint(centroid).distance, area);
+        break;
       case traversability::FaceClass::kLethal: out.areas.lethal_m2 += area; break;
       case traversability::FaceClass::kUnknown: out.areas.unknown_m2 += area; break;
+      case traversability::FaceClass::kUncertain: out.areas.uncertain_m2 += area; break;
     }
   }
   out.free_fraction = ratio(out.areas.free_m2, out.areas.total());
   out.lethal_fraction = ratio(out.areas.lethal_m2, out.areas.total());
   out.unknown_fraction = ratio(out.areas.unknown_m2, out.areas.total());
+  out.uncertain_fraction = ratio(out.areas.uncertain_m2, out.areas.total());
+  out.free_truth_distance_median_m = weightedQuantile(free_distances, 0.5);
+  out.free_truth_distance_p90_m = weightedQuantile(free_distances, 0.9);
   return out;
 }
 

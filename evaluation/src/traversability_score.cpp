@@ -20,19 +20,35 @@ void add(ClassAreas& areas, FaceClass face_class, double area) {
     case FaceClass::kFree: areas.free_m2 += area; break;
     case FaceClass::kLethal: areas.lethal_m2 += area; break;
     case FaceClass::kUnknown: areas.unknown_m2 += area; break;
+    case FaceClass::kUncertain: areas.uncertain_m2 += area; break;
   }
 }
 
 double ratio(double num, double den) { return den > 0 ? num / den : std::numeric_limits<double>::quiet_NaN(); }
 
-/// The known faces of the map, for the coverage queries.
-mesher::TriangleMesh knownFaces(const traversability::LayeredMesh& map) {
+/// The known (or only the free) faces of the map, for the coverage queries.
+mesher::TriangleMesh knownFaces(const traversability::LayeredMesh& map, bool free_only) {
   mesher::TriangleMesh known;
   known.vertices = map.mesh.vertices;
   for (std::size_t f = 0; f < map.mesh.faces.size(); ++f) {
-    if (map.layers[f].face_class != FaceClass::kUnknown) known.faces.push_back(map.mesh.faces[f]);
+    const FaceClass c = map.layers[f].face_class;
+    if (free_only ? c == FaceClass::kFree : c != FaceClass::kUnknown) known.faces.push_back(map.mesh.faces[f]);
   }
   return known;
+}
+
+/// The traversable truth area with a face of `known` within max_distance_m.
+double coveredArea(const GroundTruthTraversability& truth, const mesher::TriangleMesh& known, double max_distance_m) {
+  if (known.faces.empty()) return 0.0;
+  const datasets::TriangleBvh bvh(known);
+  double covered_m2 = 0;
+  for (std::size_t f = 0; f < truth.mesh.mesh.faces.size(); ++f) {
+    if (!truth.traversable[f]) continue;
+    if (bvh.closestPoint(faceCentroid(truth.mesh.mesh, f)).distance <= max_distance_m) {
+      covered_m2 += faceArea(truth.mesh.mesh, f);
+    }
+  }
+  return covered_m2;
 }
 
 }  // namespace
@@ -88,6 +104,8 @@ TraversabilityScore scoreTraversability(const traversability::LayeredMesh& map,
     if (!face_groups.empty()) add(score.by_group[face_groups[pieces.parent_face[p]]][traversable ? 1 : 0], predicted, area);
     if (predicted == FaceClass::kUnknown) {
       score.unknown_m2 += area;
+    } else if (predicted == FaceClass::kUncertain) {
+      score.uncertain_m2 += area;
     } else if (predicted == FaceClass::kFree) {
       (traversable ? score.true_positive_m2 : score.false_positive_m2) += area;
     } else {
@@ -99,21 +117,15 @@ TraversabilityScore scoreTraversability(const traversability::LayeredMesh& map,
   score.f1 = ratio(2 * score.true_positive_m2,
                    2 * score.true_positive_m2 + score.false_positive_m2 + score.false_negative_m2);
   score.unknown_fraction = ratio(score.unknown_m2, score.scored_m2);
+  score.uncertain_fraction = ratio(score.uncertain_m2, score.scored_m2);
 
-  // Coverage: traversable truth faces with a known map face within reach.
-  const mesher::TriangleMesh known = knownFaces(map);
-  const std::unique_ptr<datasets::TriangleBvh> known_bvh =
-      known.faces.empty() ? nullptr : std::make_unique<datasets::TriangleBvh>(known);
-  double covered_m2 = 0;
+  // Coverage: traversable truth faces with a known (a free) map face within reach.
   for (std::size_t f = 0; f < truth.mesh.mesh.faces.size(); ++f) {
-    if (!truth.traversable[f]) continue;
-    const double area = faceArea(truth.mesh.mesh, f);
-    score.truth_traversable_m2 += area;
-    if (known_bvh && known_bvh->closestPoint(faceCentroid(truth.mesh.mesh, f)).distance <= config.max_distance_m) {
-      covered_m2 += area;
-    }
+    if (truth.traversable[f]) score.truth_traversable_m2 += faceArea(truth.mesh.mesh, f);
   }
-  score.coverage = ratio(covered_m2, score.truth_traversable_m2);
+  score.coverage = ratio(coveredArea(truth, knownFaces(map, false), config.max_distance_m), score.truth_traversable_m2);
+  score.free_coverage =
+      ratio(coveredArea(truth, knownFaces(map, true), config.max_distance_m), score.truth_traversable_m2);
   return score;
 }
 

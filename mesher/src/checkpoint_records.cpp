@@ -139,6 +139,7 @@ void CheckpointAccess::writeRegistry(const PointRegistry& registry, const MapSta
   for (const PointRecord& point : registry.points_) {
     out.u64(point.id.value);
     out.u8(point.alive ? 1 : 0);
+    out.u8(static_cast<std::uint8_t>(point.kind));
     writePosition(out, point.latest_W);
     writePosition(out, point.inserted_W);
     out.u32(numbering.vertex(point.vertex));
@@ -166,11 +167,14 @@ void CheckpointAccess::writeRegistry(const PointRegistry& registry, const MapSta
 
 void CheckpointAccess::readRegistry(PointRegistry& registry, ByteReader& in, const Handles& handles) {
   in.section("points");
-  registry.points_.resize(in.count(8 + 1 + 48 + 4 + 16));
+  registry.points_.resize(in.count(8 + 1 + 1 + 48 + 4 + 16));
   registry.point_index_.clear();
   for (PointRecord& point : registry.points_) {
     point.id = PointId{in.u64()};
     point.alive = in.flag();
+    const std::uint8_t kind = in.u8();
+    if (kind > static_cast<std::uint8_t>(PointKind::kDrivenGround)) in.fail("a point kind (0 SLAM, 1 driven ground)");
+    point.kind = static_cast<PointKind>(kind);
     point.latest_W = readPosition(in);
     point.inserted_W = readPosition(in);
     point.vertex = handles.vertex(in, "point vertex", true);

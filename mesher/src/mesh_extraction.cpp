@@ -29,19 +29,29 @@ void canonicalize(TriangleMesh& mesh) {
   TriangleMesh sorted;
   sorted.vertices.reserve(order.size());
   sorted.is_steiner.reserve(order.size());
+  sorted.is_driven.reserve(order.size());
   sorted.vertex_keys.reserve(order.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     rank[order[i]] = i;
     sorted.vertices.push_back(mesh.vertices[order[i]]);
     sorted.is_steiner.push_back(mesh.is_steiner[order[i]]);
+    sorted.is_driven.push_back(mesh.is_driven[order[i]]);
     sorted.vertex_keys.push_back(mesh.vertex_keys[order[i]]);
   }
-  sorted.faces = std::move(mesh.faces);
-  for (auto& face : sorted.faces) {
+  // Faces sorted with their observation counts.
+  std::vector<std::array<std::uint32_t, 5>> records(mesh.faces.size());
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    auto face = mesh.faces[f];
     for (auto& index : face) index = rank[index];
     std::rotate(face.begin(), std::min_element(face.begin(), face.end()), face.end());
+    records[f] = {face[0], face[1], face[2], mesh.face_rays[f], mesh.face_front_crossings[f]};
   }
-  std::sort(sorted.faces.begin(), sorted.faces.end());
+  std::sort(records.begin(), records.end());
+  for (const auto& r : records) {
+    sorted.faces.push_back({r[0], r[1], r[2]});
+    sorted.face_rays.push_back(r[3]);
+    sorted.face_front_crossings.push_back(r[4]);
+  }
   mesh = std::move(sorted);
 }
 
@@ -55,6 +65,9 @@ TriangleMesh Mesher::Impl::extractMesh() const {
     if (inserted) {
       mesh.vertices.push_back(internal::toEigen(v->point()));
       mesh.is_steiner.push_back(v->info().steiner ? 1 : 0);
+      const std::uint32_t point = v->info().point;
+      mesh.is_driven.push_back(
+          point != internal::kNone && state_.registry.point(point).kind == PointKind::kDrivenGround ? 1 : 0);
       mesh.vertex_keys.push_back(state_.outside.vertexKey(v));
     }
     return it->second;
@@ -71,6 +84,10 @@ TriangleMesh Mesher::Impl::extractMesh() const {
             vertexIndex(cell->vertex(internal::Delaunay::vertex_triple_index(i, k)));
       }
       mesh.faces.push_back(face);
+      // The observation counts the surface queries report for this face (makeFace).
+      const SurfaceFace observed = makeFace(cell, i);
+      mesh.face_rays.push_back(observed.rays);
+      mesh.face_front_crossings.push_back(observed.front_crossings);
     }
   }
   canonicalize(mesh);

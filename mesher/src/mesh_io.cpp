@@ -59,6 +59,10 @@ TriangleMesh readPly(const std::filesystem::path& path) {
       mesh.is_steiner.resize(vertices->count);
       for (std::size_t i = 0; i < vertices->count; ++i) mesh.is_steiner[i] = steiner->values[i] != 0;
     }
+    if (const ply::Property* driven = vertices->find("driven"); driven && !driven->isList()) {
+      mesh.is_driven.resize(vertices->count);
+      for (std::size_t i = 0; i < vertices->count; ++i) mesh.is_driven[i] = driven->values[i] != 0;
+    }
   }
   if (const ply::Element* faces = document.find("face")) {
     const ply::Property& indices = faceIndices(file, *faces);
@@ -66,6 +70,19 @@ TriangleMesh readPly(const std::filesystem::path& path) {
     for (std::size_t f = 0; f < faces->count; ++f) {
       for (std::size_t k = 0; k < 3; ++k) {
         mesh.faces[f][k] = static_cast<std::uint32_t>(indices.values[indices.list_offsets[f] + k]);
+      }
+    }
+    // Observation counts, when the file has both (terramesh's own meshes).
+    const ply::Property* rays = faces->find("rays");
+    const ply::Property* crossings = faces->find("front_crossings");
+    if (rays && crossings && !rays->isList() && !crossings->isList()) {
+      for (std::size_t f = 0; f < faces->count; ++f) {
+        if (!(rays->values[f] >= 0) || !(crossings->values[f] >= 0) || crossings->values[f] > rays->values[f]) {
+          throw InputError(file, "face " + std::to_string(f),
+                           "rays and front_crossings must be counts with front_crossings <= rays");
+        }
+        mesh.face_rays.push_back(static_cast<std::uint32_t>(rays->values[f]));
+        mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(crossings->values[f]));
       }
     }
   }
@@ -179,6 +196,15 @@ void writePly(const std::filesystem::path& path, const TriangleMesh& mesh) {
   if (have_flags) {
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i) steiner.values[i] = mesh.is_steiner[i] ? 1 : 0;
   }
+  // Written only when some vertex is driven, so that meshes without trajectory evidence keep
+  // the file layout (and bytes) they always had.
+  const bool have_driven = mesh.is_driven.size() == mesh.vertices.size() &&
+                           std::find(mesh.is_driven.begin(), mesh.is_driven.end(), 1) != mesh.is_driven.end();
+  if (have_driven) {
+    ply::Property& driven = vertices.addScalar("driven", ply::Type::kUInt8);
+    driven.values.reserve(mesh.vertices.size());
+    for (std::uint8_t flag : mesh.is_driven) driven.values.push_back(flag ? 1 : 0);
+  }
   ply::Element& faces = document.addElement("face", mesh.faces.size());
   ply::Property& indices = faces.addList("vertex_indices", ply::Type::kUInt8, ply::Type::kUInt32);
   indices.values.reserve(3 * mesh.faces.size());
@@ -187,6 +213,13 @@ void writePly(const std::filesystem::path& path, const TriangleMesh& mesh) {
   for (const auto& face : mesh.faces) {
     for (std::uint32_t index : face) indices.values.push_back(index);
     indices.list_offsets.push_back(indices.values.size());
+  }
+  if (mesh.face_rays.size() == mesh.faces.size() && mesh.face_front_crossings.size() == mesh.faces.size()) {
+    for (const auto& [name, counts] : {std::pair<const char*, const std::vector<std::uint32_t>*>{"rays", &mesh.face_rays},
+                                      {"front_crossings", &mesh.face_front_crossings}}) {
+      ply::Property& property = faces.addScalar(name, ply::Type::kUInt32);
+      property.values.assign(counts->begin(), counts->end());
+    }
   }
   ply::writeFile(path, document, ply::Format::kBinaryLittleEndian);
 }

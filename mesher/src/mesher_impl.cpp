@@ -151,15 +151,17 @@ std::size_t Mesher::Impl::viewsInRange(const internal::PointRecord& point,
 void Mesher::Impl::classifyPoint(std::uint32_t index, UpdatePlan& plan, UpdateStats& stats) {
   internal::PointRecord& point = state_.registry.point(index);
   if (!point.inserted()) {
+    // A driven-ground sample is measured by the drive itself: one view suffices.
+    const std::size_t min_views = point.kind == PointKind::kDrivenGround
+                                      ? 1
+                                      : static_cast<std::size_t>(state_.config.min_views);
     if (point.keyframes.empty()) {
       plan.forget.push_back(index);
-    } else if (viewsInRange(point, point.latest_W) >=
-               static_cast<std::size_t>(state_.config.min_views)) {
+    } else if (viewsInRange(point, point.latest_W) >= min_views) {
       plan.insert.push_back(index);
     } else {
       ++stats.points_waiting;
-      stats.points_waiting_too_far +=
-          point.keyframes.size() >= static_cast<std::size_t>(state_.config.min_views);
+      stats.points_waiting_too_far += point.keyframes.size() >= min_views;
     }
     return;
   }
@@ -224,9 +226,21 @@ void Mesher::Impl::createRays(std::uint32_t index, UpdatePlan& plan, UpdateStats
   reconcileRays(index, plan, stats);  // no rays yet: creates one per keyframe in range
 }
 
+void Mesher::Impl::validateKinds(const Keyframe& keyframe) const {
+  for (const PointObservation& observation : keyframe.observations) {
+    const std::uint32_t index = state_.registry.findPoint(observation.point);
+    if (index == kNone || state_.registry.point(index).kind == observation.kind) continue;
+    throw std::invalid_argument("keyframe " + std::to_string(keyframe.id.value) + ": point " +
+                                std::to_string(observation.point.value) +
+                                " is observed with another kind than it was first observed with "
+                                "(SLAM point vs driven-ground sample)");
+  }
+}
+
 UpdateStats Mesher::Impl::integrateKeyframe(const Keyframe& keyframe) {
   validateKeyframe(keyframe);
   validateGridGrowth(keyframe, state_.grid, state_.config);
+  validateKinds(keyframe);
   UpdatePlan plan;
   UpdateStats stats;
   internal::PointRegistry& registry = state_.registry;
@@ -243,6 +257,7 @@ UpdateStats Mesher::Impl::integrateKeyframe(const Keyframe& keyframe) {
   for (const PointObservation& observation : keyframe.observations) {
     const std::uint32_t index = registry.findOrCreatePoint(observation.point);
     internal::PointRecord& point = registry.point(index);
+    point.kind = observation.kind;  // validateKinds: new, or the kind it already has
     point.latest_W = observation.position_W;
     ++stats.observations;
     stats.observations_too_far += (keyframe.position_W_C - observation.position_W).norm() >

@@ -52,6 +52,8 @@ class Mesher::Impl {
   };
 
   // Bookkeeping.
+  /// @throw std::invalid_argument if an observed point is known with another PointKind.
+  void validateKinds(const Keyframe& keyframe) const;
   void classifyPoint(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);
   void reconcileRays(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);
   void createRays(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);

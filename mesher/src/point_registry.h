@@ -8,6 +8,7 @@
 
 #include "cgal_types.h"
 #include "mesher/ids.h"
+#include "mesher/keyframe.h"
 #include "ray_store.h"
 
 namespace terramesh::mesher::internal {
@@ -16,6 +17,8 @@ namespace terramesh::mesher::internal {
 struct PointRecord {
   PointId id;
   bool alive = false;
+  /// SLAM point or driven-ground sample; set when the record is created, kept until erased.
+  PointKind kind = PointKind::kSlam;
   /// Latest estimate received from SLAM.
   Eigen::Vector3d latest_W = Eigen::Vector3d::Zero();
   /// Position of its vertex; meaningful while `vertex` is set.

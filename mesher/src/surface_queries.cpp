@@ -33,14 +33,17 @@ SurfaceFace Mesher::Impl::makeFace(const CellHandle& front, int facet) const {
   // Start at the smallest key, keeping the winding: equal faces give equal records.
   const auto first = static_cast<std::size_t>(std::min_element(keys.begin(), keys.end()) - keys.begin());
   SurfaceFace face;
-  face.rays = front->info().crossings;
+  face.front_crossings = front->info().crossings;
+  face.rays = face.front_crossings;
   for (std::size_t k = 0; k < 3; ++k) {
     const VertexHandle& v = vertices[(first + k) % 3];
     face.vertices[k] = keys[(first + k) % 3];
     face.positions_W[k] = internal::toEigen(v->point());
     face.touches_steiner = face.touches_steiner || v->info().steiner;
     if (v->info().point != internal::kNone) {
-      face.rays += static_cast<std::uint32_t>(state_.registry.point(v->info().point).rays.size());
+      const internal::PointRecord& point = state_.registry.point(v->info().point);
+      face.rays += static_cast<std::uint32_t>(point.rays.size());
+      face.driven_vertices += point.kind == PointKind::kDrivenGround ? 1 : 0;
     }
   }
   face.key = FaceKey::of(keys[0], keys[1], keys[2]);

@@ -113,9 +113,12 @@ TriangleMesh dropSteinerFaces(const TriangleMesh& mesh) {
     throw std::invalid_argument("dropSteinerFaces: is_steiner must have one flag per vertex");
   }
   const bool keyed = mesh.vertex_keys.size() == mesh.vertices.size();
+  const bool driven = mesh.is_driven.size() == mesh.vertices.size();
+  const bool observed = mesh.face_rays.size() == mesh.faces.size() && mesh.face_front_crossings.size() == mesh.faces.size();
   TriangleMesh result;
   std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
-  for (const auto& face : mesh.faces) {
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const auto& face = mesh.faces[f];
     if (mesh.is_steiner[face[0]] || mesh.is_steiner[face[1]] || mesh.is_steiner[face[2]]) continue;
     std::array<std::uint32_t, 3> mapped{};
     for (std::size_t k = 0; k < 3; ++k) {
@@ -125,10 +128,15 @@ TriangleMesh dropSteinerFaces(const TriangleMesh& mesh) {
         result.vertices.push_back(mesh.vertices[face[k]]);
         result.is_steiner.push_back(0);
         if (keyed) result.vertex_keys.push_back(mesh.vertex_keys[face[k]]);
+        if (driven) result.is_driven.push_back(mesh.is_driven[face[k]]);
       }
       mapped[k] = index;
     }
     result.faces.push_back(mapped);
+    if (observed) {
+      result.face_rays.push_back(mesh.face_rays[f]);
+      result.face_front_crossings.push_back(mesh.face_front_crossings[f]);
+    }
   }
   return result;
 }

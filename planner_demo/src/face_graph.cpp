@@ -93,11 +93,13 @@ void FaceGraph::computeWalkability(const traversability::LayeredMesh& map) {
     const traversability::FaceLayers& layer = map.layers[f];
     const bool free = layer.face_class == traversability::FaceClass::kFree && std::isfinite(layer.cost);
     const bool unknown = config_.allow_unknown && layer.face_class == traversability::FaceClass::kUnknown;
+    const bool uncertain = config_.allow_uncertain && layer.face_class == traversability::FaceClass::kUncertain &&
+                           std::isfinite(layer.cost);
     const bool far_from_lethal = !(layer.lethal_distance_m < config_.min_lethal_distance_m);
     const bool facing_up = normals_[f].dot(up_W_) >= min_up;
-    if ((free || unknown) && far_from_lethal && facing_up && norm > 0) {
+    if ((free || unknown || uncertain) && far_from_lethal && facing_up && norm > 0) {
       walkable_[f] = 1;
-      const double cost = free ? std::clamp(static_cast<double>(layer.cost), 0.0, 1.0) : config_.unknown_cost;
+      const double cost = free || uncertain ? std::clamp(static_cast<double>(layer.cost), 0.0, 1.0) : config_.unknown_cost;
       multipliers_[f] = 1.0 + config_.cost_weight * cost;
       walkable_faces_.push_back(static_cast<std::uint32_t>(f));
     }

@@ -3,7 +3,7 @@
 
 Inputs (MAP is the folder):
   MAP/traversability.ply  binary PLY: vertex x y z (mesh frame, map units); per-face cost (float,
-                          [0,1], NaN = unknown), lethal and unknown (uchar flags), and the layers
+                          [0,1], NaN = unknown), lethal, unknown and uncertain (uchar flags; uncertain optional), and the layers
                           slope_deg, contact, step_m, roughness_m (float; optional for the figures)
   MAP/map_frame.yaml      up: [x, y, z] and metres_per_unit (plan_x, plan_y when present): a mesh
                           point p is drawn at (plan_x . p, plan_y . p) * metres_per_unit
@@ -13,7 +13,7 @@ Inputs (MAP is the folder):
   --trajectory FILE       camera trajectory, KITTI poses (12 numbers per line, camera-to-world,
                           mesh frame), e.g. the generator's trajectory.txt
 Outputs (default MAP/plots):
-  traversability_top.png         top view, faces coloured by cost, unknown grey, lethal red, with
+  traversability_top.png         top view, faces coloured by cost, unknown grey, lethal red, uncertain magenta, with
                                  the trajectory and the paths; upper faces drawn over lower ones
   traversability_histograms.png  area of known faces per slope, contact, step and roughness bin,
                                  traversable and lethal stacked
@@ -33,6 +33,8 @@ import ply  # noqa: E402
 
 UNKNOWN_RGBA = (0.62, 0.62, 0.62, 1.0)
 LETHAL_RGBA = (0.85, 0.0, 0.0, 1.0)
+# Uncertain faces (measured, the evidence cannot decide): magenta, as in the viewer.
+UNCERTAIN_RGBA = (235 / 255, 60 / 255, 190 / 255, 1.0)
 PATH_COLOURS = ["magenta", "darkorange", "cyan", "black", "lime", "saddlebrown"]
 TOP_VIEW_SIZE_IN = (12.0, 10.0)
 HISTOGRAMS = [("slope_deg", "slope (degrees)", np.arange(0.0, 90.0 + 1e-9, 2.0)),
@@ -189,11 +191,14 @@ def top_view(plt, vertices, faces, layers, frame, paths, trajectory, title_count
     colours = cmap(np.clip(np.nan_to_num(cost, nan=0.0), 0.0, 1.0))
     colours[layers["unknown"][order] != 0] = UNKNOWN_RGBA
     colours[layers["lethal"][order] != 0] = LETHAL_RGBA
+    if "uncertain" in layers:
+        colours[layers["uncertain"][order] != 0] = UNCERTAIN_RGBA
 
     figure, axes = plt.subplots(figsize=TOP_VIEW_SIZE_IN, dpi=common.FIGURE_DPI)
     # No antialiasing: it would show the background through the seams between faces.
     axes.add_collection(PolyCollection(polygons, facecolors=colours, edgecolors="none", antialiaseds=False))
-    handles = [Patch(color=UNKNOWN_RGBA, label="unknown"), Patch(color=LETHAL_RGBA, label="lethal")]
+    handles = [Patch(color=UNKNOWN_RGBA, label="unknown"), Patch(color=LETHAL_RGBA, label="lethal"),
+               Patch(color=UNCERTAIN_RGBA, label="uncertain")]
     points = [plan]
     if trajectory is not None:
         xy = np.column_stack([trajectory @ plan_x, trajectory @ plan_y]) * scale
@@ -227,6 +232,8 @@ def top_view(plt, vertices, faces, layers, frame, paths, trajectory, title_count
 def histograms(plt, layers, areas):
     figure, grid = plt.subplots(2, 2, figsize=common.FIGURE_SIZE_IN, dpi=common.FIGURE_DPI)
     known = layers["unknown"] == 0
+    if "uncertain" in layers:
+        known = known & (layers["uncertain"] == 0)
     lethal = layers["lethal"] != 0
     for axes, (name, label, bins) in zip(grid.ravel(), HISTOGRAMS):
         axes.set_xlabel(label)
@@ -246,7 +253,8 @@ def histograms(plt, layers, areas):
                   bins=bins, weights=[areas[use & ~lethal], areas[use & lethal]], stacked=True,
                   color=[plt.get_cmap("viridis")(0.35), LETHAL_RGBA], label=["traversable", "lethal"])
         axes.legend(loc="upper right")
-    figure.suptitle("Known faces by layer (unknown faces left out; values past the last bin counted in it)")
+    figure.suptitle("Free and lethal faces by layer (unknown and uncertain left out; values past the last bin "
+                    "counted in it)")
     figure.set_layout_engine("tight")
     return figure
 
@@ -273,8 +281,10 @@ def main(argv=None):
     total = max(float(areas.sum()), 1e-12)
     unknown = layers["unknown"] != 0
     lethal = (layers["lethal"] != 0) & ~unknown
-    counts = (f"{len(areas)} faces; by area {100 * areas[~unknown & ~lethal].sum() / total:.1f}% traversable, "
-              f"{100 * areas[lethal].sum() / total:.1f}% lethal, {100 * areas[unknown].sum() / total:.1f}% unknown")
+    uncertain = (layers["uncertain"] != 0) if "uncertain" in layers else np.zeros(len(areas), dtype=bool)
+    counts = (f"{len(areas)} faces; by area {100 * areas[~unknown & ~lethal & ~uncertain].sum() / total:.1f}% "
+              f"traversable, {100 * areas[lethal].sum() / total:.1f}% lethal, "
+              f"{100 * areas[uncertain].sum() / total:.1f}% uncertain, {100 * areas[unknown].sum() / total:.1f}% unknown")
     output_dir = args.output_dir or os.path.join(args.map_dir, "plots")
     plt = common.pyplot()
     written = []

@@ -19,7 +19,8 @@ SOURCE = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 CHECKER = os.path.join(SHARED, "tools", "check_mesh.py")
 ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
 
-FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 7 * 4 + 4 + 1  # list, cost, lethal, unknown, 7 floats, rays, steiner
+# list, cost, lethal, unknown, uncertain, 7 floats, height_uncertainty_m, evidence, rays, front_crossings, steiner
+FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 4 + 1
 VERTEX_BYTES = 3 * 8 + 1 + 4  # x y z, steiner, cost
 
 
@@ -85,7 +86,7 @@ def read_ply_header(path):
 def class_counts(summary_path):
     with open(summary_path) as f:
         text = f.read()
-    match = re.search(r"faces: (\d+) \(free (\d+), lethal (\d+), unknown (\d+)\)", text)
+    match = re.search(r"faces: (\d+) \(free (\d+), lethal (\d+), unknown (\d+), uncertain (\d+)\)", text)
     levels = int(re.search(r"^levels: (\d+)$", text, re.M).group(1))
     return tuple(int(g) for g in match.groups()), levels
 
@@ -120,9 +121,10 @@ class TempDirCase(unittest.TestCase):
         self.assertIn("format binary_little_endian 1.0", lines)
         vertex, face = elements
         self.assertEqual(vertex["properties"], ["x", "y", "z", "steiner", "cost"])
-        self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "slope_deg", "step_m",
-                                              "roughness_m", "contact", "contact_best", "clearance_m",
-                                              "lethal_distance_m", "rays", "steiner"])
+        self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "uncertain", "slope_deg",
+                                              "step_m", "roughness_m", "contact", "contact_best", "clearance_m",
+                                              "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
+                                              "front_crossings", "steiner"])
         self.assertEqual(os.path.getsize(os.path.join(out, "traversability.ply")),
                          header_size + vertex["count"] * VERTEX_BYTES + face["count"] * FACE_BYTES)
         for level in range(levels):
@@ -148,7 +150,7 @@ class TempDirCase(unittest.TestCase):
                                              capture_output=True, text=True, check=True).stdout)
             self.assertEqual([b["description"] for b in info["bands"]],
                              ["cost", "class", "slope_deg", "step_m", "roughness_m", "contact", "clearance_m",
-                              "rays", "height_m"])
+                              "rays", "height_m", "evidence", "height_uncertainty_m"])
             self.assertTrue(all(b["type"] == "Float32" and str(b["noDataValue"]).lower() == "nan" for b in info["bands"]))
 
 
@@ -184,12 +186,11 @@ class StreetTest(TempDirCase):
         self.assertEqual(result.returncode, 0, result.stderr)
         offline_counts, offline_levels = class_counts(os.path.join(offline, "traversability_summary.txt"))
         self.assertEqual(offline_levels, levels)
-        # Same faces; the file has no ray counts, so faces the online map left unknown for too few
-        # rays count as measured offline: unknown can only shrink, and only into free or lethal.
+        # Same faces; mesh.ply keeps every Steiner flag and every face's observation counts (rays,
+        # rays through the space in front), so the evidence and the classes must agree.
         self.assertEqual(offline_counts[0], counts[0])
-        self.assertLessEqual(offline_counts[3], counts[3])
-        self.assertEqual(offline_counts, counts, "mesh.ply has every Steiner flag; the street's faces all "
-                                                 "have enough rays, so the classes must agree")
+        self.assertEqual(offline_counts, counts, "mesh.ply keeps the Steiner flags and the observation counts, "
+                                                 "so the classes must agree")
         self.assert_map_directory(offline, offline_levels)
 
 

@@ -107,7 +107,7 @@ class BadInputTest(TempDirCase):
         self.assertFalse(os.path.exists(out), "nothing written on bad input")
 
     def test_bad_arguments(self):
-        self.assert_bad("moon", mention="street, offroad or garage")
+        self.assert_bad("moon", mention="street, offroad, garage or hazards")
         self.assert_bad("street", "--noise-std-m", "-1", mention="noise_std_m")
         self.assert_bad("street", "--noise-std-m", "abc", mention="--noise-std-m")
         self.assert_bad("street", "--keyframe-spacing-m", "2", "--keyframe-every", "3")

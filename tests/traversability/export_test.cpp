@@ -55,6 +55,8 @@ class MeshBuilder {
       l.cost = 0.2f;
       l.slope_deg = 1;
       l.rays = 7;
+      l.evidence = Evidence::kMeasured;
+      l.height_uncertainty_m = 0.04f;
     }
     return map;
   }
@@ -274,6 +276,14 @@ class MapDirectoryTest : public ::testing::Test {
         map_.layers[f].face_class = FaceClass::kUnknown;
         map_.layers[f].cost = NAN;
         map_.layers[f].steiner = true;
+        map_.layers[f].evidence = Evidence::kInterpolated;
+        map_.layers[f].height_uncertainty_m = INFINITY;
+      }
+      if (v.x() >= 6 && v.x() < 7 && v.y() >= 2 && v.y() < 5) {
+        map_.layers[f].face_class = FaceClass::kUncertain;
+        map_.layers[f].cost = 0.9f;
+        map_.layers[f].evidence = Evidence::kInterpolated;
+        map_.layers[f].height_uncertainty_m = 0.3f;
       }
     }
     map_.mesh.is_steiner.assign(map_.mesh.vertices.size(), 0);
@@ -321,7 +331,7 @@ TEST_F(MapDirectoryTest, RoundTripPreservesMeshLayersNanAndFrame) {
   EXPECT_EQ(m.mesh.is_steiner, map_.mesh.is_steiner);
   for (std::size_t v = 0; v < m.mesh.vertices.size(); ++v) EXPECT_EQ(m.mesh.vertices[v], map_.mesh.vertices[v]);
   const auto same = [](float a, float b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
-  std::size_t unknown = 0;
+  std::size_t unknown = 0, uncertain = 0;
   for (std::size_t f = 0; f < m.layers.size(); ++f) {
     const FaceLayers &a = m.layers[f], &b = map_.layers[f];
     EXPECT_EQ(a.face_class, b.face_class) << f;
@@ -332,9 +342,13 @@ TEST_F(MapDirectoryTest, RoundTripPreservesMeshLayersNanAndFrame) {
         << f;
     EXPECT_EQ(a.rays, b.rays);
     EXPECT_EQ(a.steiner, b.steiner);
+    EXPECT_EQ(a.evidence, b.evidence) << f;
+    EXPECT_TRUE(same(a.height_uncertainty_m, b.height_uncertainty_m)) << f;
     unknown += a.face_class == FaceClass::kUnknown;
+    uncertain += a.face_class == FaceClass::kUncertain;
   }
   EXPECT_GT(unknown, 0u);
+  EXPECT_GT(uncertain, 0u);
   EXPECT_TRUE(std::isinf(m.layers[0].clearance_m));
   EXPECT_TRUE(std::isnan(m.layers[7].roughness_m));
   EXPECT_NEAR((m.up_W - map_.up_W).norm(), 0, 1e-15);
@@ -365,6 +379,7 @@ TEST_F(MapDirectoryTest, Nav2TrinaryMapHasTheConventionalPixels) {
   EXPECT_EQ(pixel(2.55, 3.55), 0);     // lethal faces
   EXPECT_EQ(pixel(10.05, 3.05), 0);    // the wall (no plan area) is rasterised along its base
   EXPECT_EQ(pixel(4.55, 3.55), 205);   // unknown faces
+  EXPECT_EQ(pixel(6.55, 3.55), 205);   // uncertain faces: neither free nor lethal
   EXPECT_EQ(pixel(22.55, 13.55), 254); // the landing
   EXPECT_EQ(pgm.at(0, 0), 205);        // padding: no surface
   // Row 0 is the top: the lethal patch at y in [2, 5] is near the bottom of the image.
@@ -404,6 +419,8 @@ TEST_F(MapDirectoryTest, CostMapUsesScaleModeWithAlphaForUnknown) {
   EXPECT_EQ(read(2, 15.55, 7.55), 255);
   EXPECT_EQ(nav2(read(1, 2.55, 3.55)), 100);  // lethal
   EXPECT_EQ(read(2, 4.55, 3.55), 0);          // unknown: transparent
+  EXPECT_NEAR(nav2(read(1, 6.55, 3.55)), 90, 1);  // uncertain: its own cost, 0.9
+  EXPECT_EQ(read(2, 6.55, 3.55), 255);
   GDALClose(png);
 }
 
@@ -414,8 +431,9 @@ TEST_F(MapDirectoryTest, GeoTiffHasNamedBandsNanNodataAndTheLayerValues) {
     const std::string name = "layers_level_" + std::to_string(level) + ".tif";
     GDALDatasetH tif = GDALOpen((dir_ / name).c_str(), GA_ReadOnly);
     ASSERT_NE(tif, nullptr);
-    const std::vector<std::string> bands = {"cost",    "class",       "slope_deg", "step_m",  "roughness_m",
-                                            "contact", "clearance_m", "rays",      "height_m"};
+    const std::vector<std::string> bands = {"cost",    "class",       "slope_deg", "step_m",   "roughness_m",
+                                            "contact", "clearance_m", "rays",      "height_m", "evidence",
+                                            "height_uncertainty_m"};
     ASSERT_EQ(GDALGetRasterCount(tif), static_cast<int>(bands.size()));
     double transform[6];
     ASSERT_EQ(GDALGetGeoTransform(tif, transform), CE_None);
@@ -446,7 +464,13 @@ TEST_F(MapDirectoryTest, GeoTiffHasNamedBandsNanNodataAndTheLayerValues) {
       EXPECT_EQ(value(2, 2.55, 3.55), 1.0f);  // lethal class
       EXPECT_TRUE(std::isnan(value(1, 4.55, 3.55)));  // unknown cost
       EXPECT_EQ(value(2, 4.55, 3.55), 2.0f);
+      EXPECT_EQ(value(2, 6.55, 3.55), 3.0f);  // uncertain class
+      EXPECT_FLOAT_EQ(value(1, 6.55, 3.55), 0.9f);
+      EXPECT_EQ(value(10, 6.55, 3.55), 2.0f);  // interpolated
+      EXPECT_FLOAT_EQ(value(11, 6.55, 3.55), 0.3f);
     }
+    EXPECT_EQ(value(10, 15.55, 7.55), 0.0f);  // measured
+    EXPECT_FLOAT_EQ(value(11, 15.55, 7.55), 0.04f);
     GDALClose(tif);
   }
 }

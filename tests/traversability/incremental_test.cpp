@@ -33,7 +33,8 @@ bool same(float a, float b) { return (std::isnan(a) && std::isnan(b)) || a == b;
                        same(x.roughness_m, y.roughness_m) && same(x.contact, y.contact) &&
                        same(x.contact_best, y.contact_best) && same(x.clearance_m, y.clearance_m) &&
                        same(x.lethal_distance_m, y.lethal_distance_m) && x.rays == y.rays &&
-                       x.steiner == y.steiner && x.face_class == y.face_class && same(x.cost, y.cost);
+                       x.steiner == y.steiner && x.face_class == y.face_class && same(x.cost, y.cost) &&
+                       x.evidence == y.evidence && same(x.height_uncertainty_m, y.height_uncertainty_m);
     if (!equal) {
       return ::testing::AssertionFailure()
              << "face " << f << " of " << a.layers.size() << ": slope " << x.slope_deg << "/" << y.slope_deg
@@ -41,7 +42,8 @@ bool same(float a, float b) { return (std::isnan(a) && std::isnan(b)) || a == b;
              << " contact " << x.contact << "/" << y.contact << " clearance " << x.clearance_m << "/"
              << y.clearance_m << " distance " << x.lethal_distance_m << "/" << y.lethal_distance_m << " rays "
              << x.rays << "/" << y.rays << " class " << int(x.face_class) << "/" << int(y.face_class) << " cost "
-             << x.cost << "/" << y.cost;
+             << x.cost << "/" << y.cost << " evidence " << int(x.evidence) << "/" << int(y.evidence)
+             << " uncertainty " << x.height_uncertainty_m << "/" << y.height_uncertainty_m;
     }
   }
   return ::testing::AssertionSuccess();
@@ -58,6 +60,7 @@ class EditableSurface {
  public:
   EditableSurface() : mesh_(test::heightFieldMesh(-5, 5, -5, 5, 0.25, [](double, double) { return 0.0; })) {
     for (std::size_t f = 0; f < mesh_.faces.size(); ++f) rays_.push_back(10);
+    crossings_.assign(mesh_.faces.size(), 4);
     present_.assign(mesh_.faces.size(), true);
   }
 
@@ -70,7 +73,8 @@ class EditableSurface {
   }
 
   /// One random edit: raise or lower the vertices in a disc (a bump, a pit, a block), cut or
-  /// restore a patch, or change the ray counts of a patch. Returns the delta from before.
+  /// restore a patch, or change the ray counts of a patch (and whether rays cross the space in
+  /// front of its faces). Returns the delta from before.
   mesher::SurfaceDelta edit(std::mt19937& rng) {
     std::uniform_real_distribution<double> coord(-5, 5), unit(0, 1);
     const Eigen::Vector2d centre(coord(rng), coord(rng));
@@ -95,7 +99,10 @@ class EditableSurface {
       if (!hit[f]) continue;
       if (present_[f]) delta.removed.push_back(keyOf(f));
       if (kind == 1) present_[f] = !present_[f];
-      if (kind == 2) rays_[f] = static_cast<std::uint32_t>(rng() % 6);
+      if (kind == 2) {
+        rays_[f] = static_cast<std::uint32_t>(rng() % 6);
+        crossings_[f] = std::min(rays_[f], static_cast<std::uint32_t>(rng() % 3));
+      }
       if (present_[f]) delta.added.push_back(face(f));
     }
     return delta;
@@ -114,11 +121,12 @@ class EditableSurface {
     }
     face.key = keyOf(f);
     face.rays = rays_[f];
+    face.front_crossings = crossings_[f];
     return face;
   }
 
   mesher::TriangleMesh mesh_;
-  std::vector<std::uint32_t> rays_;
+  std::vector<std::uint32_t> rays_, crossings_;
   std::vector<bool> present_;
 };
 
@@ -129,7 +137,7 @@ TEST(IncrementalTest, RandomEditsEqualFullRecomputation) {
     TraversabilityMap map(profile, MapFrame{});
     map.reset(facesOf(surface.faces()));
     std::mt19937 rng(11);
-    std::size_t lethal_seen = 0, unknown_seen = 0;
+    std::size_t lethal_seen = 0, unknown_seen = 0, uncertain_seen = 0, interpolated_seen = 0;
     for (int step = 0; step < 25; ++step) {
       const LayerUpdateStats stats = map.apply(surface.edit(rng), {});
       EXPECT_LE(stats.faces_recomputed, stats.faces_total);
@@ -140,10 +148,14 @@ TEST(IncrementalTest, RandomEditsEqualFullRecomputation) {
       for (const FaceLayers& l : expected.layers) {
         lethal_seen += l.face_class == FaceClass::kLethal;
         unknown_seen += l.face_class == FaceClass::kUnknown;
+        uncertain_seen += l.face_class == FaceClass::kUncertain;
+        interpolated_seen += l.face_class != FaceClass::kUnknown && l.evidence == Evidence::kInterpolated;
       }
     }
     EXPECT_GT(lethal_seen, 0u) << "the edits must create lethal faces for the test to mean anything";
     EXPECT_GT(unknown_seen, 0u);
+    EXPECT_GT(uncertain_seen, 0u);
+    EXPECT_GT(interpolated_seen, 0u);
   }
 }
 
@@ -180,6 +192,21 @@ TEST(IncrementalTest, FacesReaddedWithTheSameGeometryAreNotChanges) {
   expectEqualsFull("after a ray count change");
   EXPECT_EQ(map.snapshot().layers.front().face_class, FaceClass::kUnknown);
 
+  // Re-added with the same rays but none crossing the space in front of it any more: the face's
+  // evidence becomes interpolated, which the faces standing on it must see too.
+  SurfaceFace& second = std::next(faces.begin(), 40)->second;
+  ASSERT_GT(second.front_crossings, 0u);
+  second.front_crossings = 0;
+  stats = map.apply(mesher::SurfaceDelta{0, 0, true, {second.key}, {second}, {}}, {});
+  EXPECT_EQ(stats.faces_readded_unchanged, 1u);
+  EXPECT_GT(stats.faces_recomputed, 1u);
+  expectEqualsFull("after the crossings vanished");
+  // ... and back, reported through the faces around touched vertices instead.
+  second.front_crossings = 3;
+  stats = map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {second});
+  EXPECT_GT(stats.faces_recomputed, 1u);
+  expectEqualsFull("after the crossings came back");
+
   // The same key with a vertex moved by a nanometre is a real change.
   SurfaceFace& last = faces.rbegin()->second;
   last.positions_W[0].z() += 1e-9;
@@ -204,6 +231,7 @@ TEST(IncrementalTest, CeilingMovingOverAFloorEqualsFullRecomputation) {
     }
     face.key = FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
     face.rays = 5;
+    face.front_crossings = 5;
     faces.push_back(face);
   }
   TraversabilityMap map(profile, MapFrame{});
@@ -241,6 +269,7 @@ TEST(IncrementalTest, ChangesOutsideAFacesHeightWindowDoNotRecomputeIt) {
     }
     face.key = FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
     face.rays = 5;
+    face.front_crossings = 5;
     return face;
   };
   std::vector<SurfaceFace> faces;
@@ -287,6 +316,7 @@ std::vector<SurfaceFace> surfaceFaces(const mesher::TriangleMesh& mesh, std::uin
     face.key = FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
     face.touches_steiner = steiner;
     face.rays = steiner ? 0 : 5;
+    face.front_crossings = face.rays;
     faces.push_back(face);
   }
   return faces;

@@ -8,7 +8,7 @@ import { pathToFileURL } from 'node:url';
 
 const SOURCE = process.env.TERRAMESH_SOURCE_DIR;
 const load = (file) => import(pathToFileURL(join(SOURCE, 'viewer/src', file)));
-const { LETHAL_RGB, RAMPS, STEINER_TINT, UNKNOWN_HATCH_RGB, UNKNOWN_RGB, rampColour } = await load('colormaps.js');
+const { LETHAL_RGB, RAMPS, STEINER_TINT, UNCERTAIN_RGB, UNKNOWN_HATCH_RGB, UNKNOWN_RGB, rampColour } = await load('colormaps.js');
 const { colourFaces, layerNames } = await load('layers.js');
 const { renderLegend } = await load('legend.js');
 
@@ -83,6 +83,29 @@ test('every layer, height included, greys and hatches the unknown face and reds 
     assert.equal(legend.classes, true);
     assert.equal(legend.unknownFaces, 1);
     assert.equal(legend.lethalFaces, 1);
+  }
+});
+
+test('an uncertain face is magenta: 20 degrees of hue from every ramp colour and from lethal red', () => {
+  for (const [name, ramp] of Object.entries(RAMPS)) {
+    for (let i = 0; i <= 100; ++i) {
+      const d = hueDistance(hue(rampColour(ramp, i / 100)), hue(UNCERTAIN_RGB));
+      assert.ok(d >= 20, `${name} at ${i / 100}: ${d.toFixed(1)} deg from uncertain`);
+    }
+  }
+  assert.ok(hueDistance(hue(LETHAL_RGB), hue(UNCERTAIN_RGB)) >= 20);
+  const mesh = fourFaces();
+  mesh.flags.uncertain = new Uint8Array([1, 0, 0, 0]);
+  for (const name of layerNames(mesh)) {
+    const colours = new Uint8Array(36);
+    const legend = colourFaces(mesh, name, [0, 0, 1], colours, new Uint8Array(12));
+    const face0 = [...colours.subarray(0, 3)];
+    assert.ok(hueDistance(hue(face0), hue(UNCERTAIN_RGB)) < 1, `${name}: uncertain face ${face0}`);
+    assert.equal(legend.uncertainFaces, 1);
+    assert.equal(legend.lethalFaces, 1);
+    const element = {};
+    renderLegend(element, legend);
+    assert.match(element.innerHTML, new RegExp(`background: rgb\\(${UNCERTAIN_RGB.join(',')}\\)"></span>uncertain \\(1\\)`));
   }
 });
 

@@ -14,8 +14,9 @@
 namespace terramesh::traversability::internal {
 
 const std::vector<std::string>& geotiffBandNames() {
-  static const std::vector<std::string> kNames = {"cost",    "class",       "slope_deg", "step_m",  "roughness_m",
-                                                  "contact", "clearance_m", "rays",      "height_m"};
+  static const std::vector<std::string> kNames = {"cost",    "class",       "slope_deg", "step_m",   "roughness_m",
+                                                  "contact", "clearance_m", "rays",      "height_m", "evidence",
+                                                  "height_uncertainty_m"};
   return kNames;
 }
 
@@ -45,7 +46,9 @@ void writeLayerGeoTiff(const std::filesystem::path& path, const LevelGrid& grid,
                               l.contact,
                               l.clearance_m,
                               static_cast<float>(l.rays),
-                              static_cast<float>(heightAt(face, centre))};
+                              static_cast<float>(heightAt(face, centre)),
+                              static_cast<float>(static_cast<int>(l.evidence)),
+                              l.height_uncertainty_m};
       for (std::size_t b = 0; b < bands; ++b) data[b * w * h + row * w + col] = values[b];
     }
   }

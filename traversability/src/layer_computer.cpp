@@ -12,6 +12,9 @@ namespace {
 constexpr double kMinGroundNormalZ = LayerComputer::kMinGroundNormalZ;
 constexpr double kMinClearanceGapM = LayerComputer::kMinClearanceGapM;
 constexpr double kSliceToleranceM = LayerComputer::kSliceToleranceM;
+/// Non-ground faces less steep than this (normal z above cos 70 deg) are bridges, not walls, where
+/// the robot's body swept the space (driven ground).
+const double kMaxBridgeNormalZ = std::cos(70.0 * M_PI / 180.0);
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 /// Footprint samples per circumradius along each axis of the sample grid (at least).
@@ -19,8 +22,6 @@ constexpr int kSamplesPerRadius = 5;
 /// Sample spacings across a rectangle's width (at least): the outermost samples fall within a
 /// quarter of the width of its sides (the car: 0.05 m inside).
 constexpr int kSamplesPerWidth = 4;
-/// Steep faces up to this angle (vertical risers, slightly overhanging ones) may be step risers.
-constexpr double kMaxRiserSlopeDeg = 95.0;
 
 /// What a footprint sample found: no ground in its band, ground steeper than max_slope, level.
 constexpr char kNoGround = 0;
@@ -89,8 +90,6 @@ struct ProjectedEdges {
   }
 };
 
-double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
-
 }  // namespace
 
 LayerComputer::LayerComputer(const RobotProfile& profile)
@@ -144,10 +143,11 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
   }
 }
 
-void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c) const {
+void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c, bool driven_only) const {
   const int K = k_;
   z_.assign(offsets_.size(), std::numeric_limits<double>::quiet_NaN());
   level_.assign(offsets_.size(), kNoGround);
+  z_relief_.assign(offsets_.size(), 0.0);
   const double spacing = spacing_m_;
   // Grid indices that may fall in [lo, hi] (one node of margin for rounding; NaN: all).
   const auto first = [&](double lo, double centre) {
@@ -178,7 +178,9 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
     if (!g.sampleable) continue;  // heightAt finds nothing on it
     // Steiner faces are invented: they mark a sample as unknown, never as ground (measured ground
     // anywhere in the band wins, whatever its distance).
-    const char level = g.steiner ? kUnknownGround : g.normal_z >= cos_max_slope_ ? kLevelGround : kSteepGround;
+    const char level = g.steiner || (driven_only && !g.driven) ? kUnknownGround
+                       : g.normal_z >= cos_max_slope_        ? kLevelGround
+                                                             : kSteepGround;
     const int i0 = first(g.box_min.x(), c.x()), i1 = last(g.box_max.x(), c.x());
     const int j0 = first(g.box_min.y(), c.y()), j1 = last(g.box_max.y(), c.y());
     const ProjectedEdges edges(g);
@@ -208,6 +210,7 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
         if (!measured || d < best_d || (d == best_d && *z < best)) {
           best = *z;
           best_level = level;
+          z_relief_[static_cast<std::size_t>(k)] = g.relief_m;
         }
       }
     }
@@ -225,14 +228,16 @@ void LayerComputer::prepareSamples(const Eigen::Vector3d& c, bool steep) const {
     t.dz = z_[i] - c.z();
     t.x_dz = offsets_[i].x() * t.dz;
     t.y_dz = offsets_[i].y() * t.dz;
+    t.relief_m = z_relief_[i];
     const double off = std::abs(z_[i] - ref_[i]);
     const int in_level = !steep && off <= level_band ? kInLevel : 0;
-    t.flags = static_cast<char>(kFound | in_level | (off <= reach ? kSupported : 0));
+    const int worst = off + t.relief_m <= reach ? kSupportedWorst : 0;
+    t.flags = static_cast<char>(kFound | in_level | (off <= reach ? kSupported : 0) | worst);
   }
 }
 
 LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>& samples, double ref_a, double ref_b,
-                                                        bool steep) const {
+                                                        bool steep, double own_relief_m, bool driven) const {
   // Least-squares planes z - c.z = a x + b y + d over the centroid and the found samples: all of
   // them, and those of the face's level (near the face's plane: a fit over both levels of a step
   // would tilt towards the upper one and hide part of the jump). Both in one pass. The normal
@@ -289,7 +294,9 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   // Residuals of the centroid and every found sample: RMS against the plane over all samples,
   // range against the level's plane; and the supported samples.
   double sum_sq = all_plane.z() * all_plane.z(), step_min = -level_plane.z(), step_max = -level_plane.z();
-  int n = 1, supported = 0, unknown = 0;
+  // The same range with every height off by the relief its face may hide (the worst case).
+  double worst_min = step_min - own_relief_m, worst_max = step_max + own_relief_m;
+  int n = 1, supported = 0, unknown = 0, supported_worst = 0;
   for (int i : samples) {
     const SampleTerms& t = terms_[static_cast<std::size_t>(i)];
     unknown += (t.flags & kUnknown) ? 1 : 0;
@@ -302,17 +309,25 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
     ++n;
     step_min = std::min(step_min, e_level);
     step_max = std::max(step_max, e_level);
+    worst_min = std::min(worst_min, e_level - t.relief_m);
+    worst_max = std::max(worst_max, e_level + t.relief_m);
     if (t.flags & kSupported) ++supported;
+    if (t.flags & kSupportedWorst) ++supported_worst;
   }
   out.roughness_m = std::sqrt(sum_sq / n);
   out.step_m = step_max - step_min;
   // Support over the known samples (unknown ones neither support nor fail to), but over at least
   // kMinKnownSampleFraction of the footprint: a footprint mostly over unknown is not supported.
   const double total = static_cast<double>(samples.size());
-  const double known = std::max(total - unknown, kMinKnownSampleFraction * total);
+  // (On driven ground the robot stood there: the drive supports the part nobody measured.)
+  const double known = driven ? total - unknown : std::max(total - unknown, kMinKnownSampleFraction * total);
   out.contact = known > 0 ? std::min(1.0, static_cast<double>(supported) / known) : 0.0;
   const RobotProfile& p = profile_;
   out.fits = out.step_m <= p.max_step_m && out.roughness_m <= p.max_roughness_m && out.contact >= p.min_support;
+  // The worst case: unknown samples count as unsupported, over the whole footprint.
+  const double worst_over = driven ? known : total;
+  const double contact_worst = worst_over > 0 ? std::min(1.0, static_cast<double>(supported_worst) / worst_over) : 0.0;
+  out.fits_worst = out.fits && worst_max - worst_min <= p.max_step_m && contact_worst >= p.min_support;
   const auto ratio = [](double value, double limit) {
     return limit > 0 ? value / limit : (value > 0 ? std::numeric_limits<double>::infinity() : 0.0);
   };
@@ -338,7 +353,8 @@ LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
   const int n_points = obstaclePoints(f, r.steep, points);
   double spread = 0;
   for (int i = 0; i < n_points; ++i) spread = std::max(spread, points[static_cast<std::size_t>(i)].norm());
-  r.window.obstacle_reach_m = radius_m_ + spread;
+  // Measured obstacles may extend up to max_obstacle_extension_m beyond their faces.
+  r.window.obstacle_reach_m = radius_m_ + spread + profile_.evidence.max_obstacle_extension_m;
   const double reach = r.window.obstacle_reach_m;
   const double ref_spread = std::hypot(r.ref_a, r.ref_b) * reach + 1e-6 * (1.0 + reach);
   r.window.z_lo = c.z() - ref_spread - band_down_m_;
@@ -350,17 +366,10 @@ LayerComputer::GroundWindow LayerComputer::groundWindow(const StoredFace& face) 
   return reference(face).window;
 }
 
-void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
-  StoredFace& f = store.face(s);
-  FaceLayers& layers = f.layers;
-  const Eigen::Vector3d& c = f.centroid_L;
-  const Reference reference_plane = reference(f);
-  layers.slope_deg = reference_plane.slope_deg;
-  const bool steep = reference_plane.steep;
-  const double ref_a = reference_plane.ref_a;
-  const double ref_b = reference_plane.ref_b;
-
-  const std::size_t count = offsets_.size();
+void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Reference& reference_plane,
+                                  bool driven) const {
+  const Eigen::Vector3d& c = store.face(s).centroid_L;
+  const double ref_a = reference_plane.ref_a, ref_b = reference_plane.ref_b;
   // Ground candidates: upward-facing faces whose projection's box meets the footprint's box.
   const Eigen::Vector2d lo = c.head<2>() - Eigen::Vector2d(radius_m_, radius_m_);
   const Eigen::Vector2d hi = c.head<2>() + Eigen::Vector2d(radius_m_, radius_m_);
@@ -378,55 +387,31 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
     const FaceBounds& g = store.bounds(t);
     if (!g.alive || g.max_z < z_lo || g.min_z > z_hi) return;
     if ((g.box_min.array() > obstacle_hi.array()).any() || (g.box_max.array() < obstacle_lo.array()).any()) return;
-    if (t != s && mayObstruct(g, store.geometry(t).steiner)) {
+    if (t != s && mayObstruct(g)) {
       Obstacle o;
-      if (clipToBody(store.geometry(t), c, ref_a, ref_b, o)) obstacles_.push_back(o);
+      const SampleGeometry& tg = store.geometry(t);
+      // Under driven ground the robot's body swept the volume above: a non-ground face anchored
+      // on driven ground, or slanted through that volume (a bridge the mesh drew from the road to
+      // something higher), is contradicted by the drive. Near-vertical faces still count there: an
+      // obstacle placed later (a parked car) stands on the road with vertical sides. Elsewhere a
+      // face anchored on driven ground is only a possible obstacle.
+      const bool drive_contradicts = driven && (tg.touches_driven || tg.normal_z > kMaxBridgeNormalZ);
+      if (!drive_contradicts && clipToBody(tg, c, ref_a, ref_b, o)) {
+        o.possible = tg.interpolated || tg.touches_driven;
+        o.extension_m = o.possible ? 0.0 : obstacleExtensionM(tg);
+        obstacles_.push_back(o);
+      }
     }
     if (g.normal_z <= kMinGroundNormalZ) return;
     if ((g.box_min.array() > hi.array()).any() || (g.box_max.array() < lo.array()).any()) return;
     candidates.push_back(t);
   });
-  std::array<Eigen::Vector2d, kObstaclePoints> points;
-  const std::vector<double>& tops = obstacleTops(f, reference_plane.steep, points);
-  ref_.resize(count);
-  for (std::size_t i = 0; i < count; ++i) ref_[i] = c.z() + ref_a * offsets_[i].x() + ref_b * offsets_[i].y();
-  sampleGround(store, c);
-  int found_samples = 0, level_samples = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    if (level_[i] == kNoGround || level_[i] == kUnknownGround) continue;
-    ++found_samples;
-    level_samples += level_[i] == kLevelGround ? 1 : 0;
-  }
-  f.level_fraction = found_samples ? static_cast<float>(level_samples) / static_cast<float>(found_samples) : 0.0f;
-  // Each heading's footprint is judged on its own samples; the face is reported at the best one.
-  prepareSamples(c, steep);
-  HeadingResult best;
-  double worst_contact = 1.0, best_contact = 0.0;
-  bool first = true;
-  for (std::size_t k = 0; k < heading_samples_.size(); ++k) {
-    HeadingResult h = judgeHeading(heading_samples_[k], ref_a, ref_b, steep);
-    // An obstacle inside the footprint: the body collides, the heading does not fit; its top
-    // above the plane counts as a step (the highest the robot would have to climb there).
-    const double top = tops[k];
-    if (top > 0) {
-      h.fits = false;
-      h.step_m = std::max(h.step_m, top);
-      h.badness = std::max(h.badness, profile_.max_step_m > 0 ? top / profile_.max_step_m
-                                                               : std::numeric_limits<double>::infinity());
-    }
-    worst_contact = std::min(worst_contact, h.contact);
-    best_contact = std::max(best_contact, h.contact);
-    // The best heading: one that fits, then the smallest badness, then the first.
-    if (first || (h.fits && !best.fits) || (h.fits == best.fits && h.badness < best.badness)) best = h;
-    first = false;
-  }
-  f.footprint_fits = best.fits;
-  f.heading_contact = static_cast<float>(best.contact);
-  layers.step_m = static_cast<float>(best.step_m);
-  layers.roughness_m = static_cast<float>(best.roughness_m);
-  layers.contact = static_cast<float>(worst_contact);
-  layers.contact_best = static_cast<float>(best_contact);
+}
 
+void LayerComputer::computeClearance(SurfaceStore& store, Slot s, bool driven) const {
+  StoredFace& f = store.face(s);
+  FaceLayers& layers = f.layers;
+  const Eigen::Vector3d& c = f.centroid_L;
   double above = std::numeric_limits<double>::infinity();
   bool above_steiner = false;
   store.forEachAt(c.x(), c.y(), [&](Slot t) {
@@ -441,6 +426,9 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
     }
     const SampleGeometry& g = store.geometry(t);
     if (!g.sampleable) return;
+    // Above driven ground the robot's body passed: a face anchored on the drive or a slanted
+    // bridge there is contradicted (a ceiling, facing down, still counts).
+    if (driven && (g.touches_driven || (g.normal_z > kMaxBridgeNormalZ && g.normal_z < cos_max_slope_))) return;
     const std::optional<double> h = g.heightAt(c.x(), c.y());
     if (!h || *h < c.z() + kMinClearanceGapM || *h - c.z() > clearance_search_m_) return;
     if (*h < above || (*h == above && g.steiner)) {
@@ -448,60 +436,76 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
       above_steiner = g.steiner;
     }
   });
+  f.clearance_unknown_low = above_steiner && above - c.z() < profile_.min_clearance_m;
   if (std::isinf(above)) {
     layers.clearance_m = std::numeric_limits<float>::infinity();
   } else {
     layers.clearance_m = above_steiner ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(above - c.z());
   }
+}
+
+void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
+  StoredFace& f = store.face(s);
+  FaceLayers& layers = f.layers;
+  const Eigen::Vector3d& c = f.centroid_L;
+  const Reference reference_plane = reference(f);
+  layers.slope_deg = reference_plane.slope_deg;
+  const bool steep = reference_plane.steep;
+  const double ref_a = reference_plane.ref_a;
+  const double ref_b = reference_plane.ref_b;
+
+  const std::size_t count = offsets_.size();
+  const bool driven = f.layers.evidence == Evidence::kDriven;
+  collectNearby(store, s, reference_plane, driven);
+  std::array<Eigen::Vector2d, kObstaclePoints> points;
+  const std::vector<double>& tops = obstacleTops(f, reference_plane.steep, points);
+  ref_.resize(count);
+  for (std::size_t i = 0; i < count; ++i) ref_[i] = c.z() + ref_a * offsets_[i].x() + ref_b * offsets_[i].y();
+  sampleGround(store, c, driven);
+  int found_samples = 0, level_samples = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (level_[i] == kNoGround || level_[i] == kUnknownGround) continue;
+    ++found_samples;
+    level_samples += level_[i] == kLevelGround ? 1 : 0;
+  }
+  f.level_fraction = found_samples ? static_cast<float>(level_samples) / static_cast<float>(found_samples) : 0.0f;
+  // Each heading's footprint is judged on its own samples; the face is reported at the best one.
+  prepareSamples(c, steep);
+  HeadingResult best;
+  double worst_contact = 1.0, best_contact = 0.0;
+  bool first = true;
+  bool fits_worst = false;
+  for (std::size_t k = 0; k < heading_samples_.size(); ++k) {
+    HeadingResult h = judgeHeading(heading_samples_[k], ref_a, ref_b, steep, store.geometry(s).relief_m, driven);
+    // An obstacle inside the footprint: the body collides, the heading does not fit; its top
+    // above the plane counts as a step (the highest the robot would have to climb there).
+    const double top = tops[k];
+    h.fits_worst = h.fits_worst && top <= 0 && !possible_[k];
+    fits_worst = fits_worst || h.fits_worst;
+    if (top > 0) {
+      h.fits = false;
+      h.step_m = std::max(h.step_m, top);
+      h.badness = std::max(h.badness, profile_.max_step_m > 0 ? top / profile_.max_step_m
+                                                               : std::numeric_limits<double>::infinity());
+    }
+    worst_contact = std::min(worst_contact, h.contact);
+    best_contact = std::max(best_contact, h.contact);
+    // The best heading: one that fits, then the smallest badness, then the first.
+    if (first || (h.fits && !best.fits) || (h.fits == best.fits && h.badness < best.badness)) best = h;
+    first = false;
+  }
+  f.footprint_fits = best.fits;
+  f.footprint_fits_worst = fits_worst;
+  f.rise_confirmed = riseConfirmed(store, s);
+  f.heading_contact = static_cast<float>(best.contact);
+  layers.step_m = static_cast<float>(best.step_m);
+  layers.roughness_m = static_cast<float>(best.roughness_m);
+  layers.contact = static_cast<float>(worst_contact);
+  layers.contact_best = static_cast<float>(best_contact);
+
+  computeClearance(store, s, driven);
   layers.rays = f.rays;
   layers.steiner = f.steiner;
-}
-
-bool LayerComputer::lethal(const StoredFace& face) const {
-  const FaceLayers& l = face.layers;
-  // A steep face no taller than max_step_m between level ground (at least half of its footprint
-  // samples on faces no steeper than max_slope: not a steep ramp) is the riser of a step: the
-  // step layer judges it, not the slope.
-  const bool riser = l.slope_deg <= kMaxRiserSlopeDeg && face.max_z - face.min_z <= profile_.max_step_m &&
-                     face.level_fraction >= 0.5f;
-  const bool too_steep = !(l.slope_deg <= profile_.max_slope_deg) && !riser;
-  return too_steep || !face.footprint_fits || l.clearance_m < profile_.min_clearance_m;
-}
-
-double LayerComputer::inflationTerm(double distance_m) const {
-  if (!(distance_m <= profile_.inflation_radius_m)) return 0.0;
-  if (distance_m <= profile_.inscribed_radius_m) return 1.0;
-  return std::exp(-profile_.cost_scaling_factor * (distance_m - profile_.inscribed_radius_m));
-}
-
-void LayerComputer::classify(StoredFace& face) const {
-  FaceLayers& l = face.layers;
-  if (face.steiner || l.rays < static_cast<std::uint32_t>(profile_.min_rays)) {
-    l.face_class = FaceClass::kUnknown;
-    l.cost = std::numeric_limits<float>::quiet_NaN();
-    return;
-  }
-  if (lethal(face)) {
-    l.face_class = FaceClass::kLethal;
-    l.cost = 1.0f;
-    return;
-  }
-  const RobotProfile& p = profile_;
-  const double slope = clamp01(l.slope_deg / p.max_slope_deg);
-  const double step = p.max_step_m > 0 ? clamp01(l.step_m / p.max_step_m) : (l.step_m > 0 ? 1.0 : 0.0);
-  const double rough = clamp01(l.roughness_m / p.max_roughness_m);
-  // Step, roughness and this contact are the best heading's: the robot drives there turned so.
-  const double fit_contact = face.heading_contact;
-  const double contact =
-      p.min_support < 1 ? clamp01((1.0 - fit_contact) / (1.0 - p.min_support)) : (fit_contact < 1 ? 1.0 : 0.0);
-  const double inflation = inflationTerm(l.lethal_distance_m);
-  const LayerWeights& w = p.weights;
-  const double mean = (w.slope * slope + w.step * step + w.roughness * rough + w.contact * contact +
-                       w.inflation * inflation) /
-                      (w.slope + w.step + w.roughness + w.contact + w.inflation);
-  // Nav2 combines layers by max: the inflation decay is never diluted by flat terrain.
-  l.face_class = FaceClass::kFree;
-  l.cost = static_cast<float>(std::max(mean, inflation));
 }
 
 }  // namespace terramesh::traversability::internal

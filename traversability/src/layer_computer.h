@@ -55,11 +55,18 @@ class LayerComputer {
   /// plane, from the face's centroid) cannot change them.
   double reachM() const { return radius_m_; }
   /// Horizontal reach of obstacles for the largest faces (judged at points up to reachM() from
-  /// their centroid, see computeLocal): no face's layers reach farther.
-  double maxReachM() const { return 2.0 * radius_m_; }
+  /// their centroid, see computeLocal), and of the possible extension of measured obstacles
+  /// (EvidenceModel::max_obstacle_extension_m): no face's layers reach farther.
+  double maxReachM() const { return 2.0 * radius_m_ + profile_.evidence.max_obstacle_extension_m; }
 
-  /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`.
+  /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`. Reads the
+  /// evidence of the faces around it (setEvidence first).
   void computeLocal(SurfaceStore& store, Slot s) const;
+
+  /// Sets the evidence and height uncertainty of face `s` (its layers and its sampling geometry)
+  /// from the face alone: its vertices, its horizontal span and whether rays crossed the free
+  /// space in front of it. Returns whether either changed.
+  bool setEvidence(SurfaceStore& store, Slot s) const;
 
   /// The height window a face's ground candidates must reach (computeLocal's filter), from its
   /// centroid and normal only.
@@ -76,11 +83,11 @@ class LayerComputer {
   /// removing t changes no local layer of that face: computeLocal skips t in both searches.
   /// `distance_m`: the horizontal distance from c to t's projection.
   bool mayAffect(const Eigen::Vector3d& c, const GroundWindow& w, const FaceBounds& t, bool t_sampleable,
-                 bool t_steiner, double distance_m) const {
+                 double distance_m) const {
     // The three filters of computeLocal, on t's height range: obstacles (any measured face that
     // is not ground, sampleable or not, within the window), ground and ceiling (both skip faces
     // heightAt cannot sample).
-    if (mayObstruct(t, t_steiner) && !(t.max_z < w.z_lo || t.min_z > w.z_hi) &&
+    if (mayObstruct(t) && !(t.max_z < w.z_lo || t.min_z > w.z_hi) &&
         distance_m <= w.obstacle_reach_m * (1 + 1e-9) + 1e-6) {
       return true;
     }
@@ -92,8 +99,9 @@ class LayerComputer {
   }
 
   /// Whether a face can be an obstacle inside a footprint (computeLocal's filter before its height
-  /// window): measured and not ground (steeper than max_slope, vertical or facing down).
-  bool mayObstruct(const FaceBounds& t, bool t_steiner) const { return !t_steiner && t.normal_z < cos_max_slope_; }
+  /// window): not ground (steeper than max_slope, vertical or facing down). Measured faces are
+  /// obstacles; interpolated ones (closing geometry, unobserved spans) only possible obstacles.
+  bool mayObstruct(const FaceBounds& t) const { return t.normal_z < cos_max_slope_; }
 
   /// Faces whose normal has a smaller upward component are not ground (walls, ceilings).
   static constexpr double kMinGroundNormalZ = 1e-6;
@@ -103,9 +111,13 @@ class LayerComputer {
   /// the footprint sample spacing; so are face boxes in the clearance search.
   static constexpr double kSliceToleranceM = 1e-6;
 
-  /// Whether known face layers make a face lethal: too steep (see docs for the step-riser rule),
-  /// too low a clearance, or the footprint fits at no heading.
+  /// Whether known face layers make a face lethal: too steep (see docs for the step-riser rule)
+  /// on measured evidence, too low a clearance, or the footprint fits at no heading.
   bool lethal(const StoredFace& face) const;
+  /// Whether a known face that is not lethal is uncertain: the evidence cannot decide (an
+  /// interpolated face too steep, a possible step, a footprint that fits only as reconstructed,
+  /// an unknown ceiling lower than the robot).
+  bool uncertain(const StoredFace& face) const;
   /// Sets face_class and cost from the local layers and `lethal_distance_m`.
   void classify(StoredFace& face) const;
   /// Inflation term in [0, 1] of a geodesic distance to the nearest lethal face (Nav2 decay).
@@ -131,6 +143,9 @@ class LayerComputer {
   struct HeadingResult {
     double step_m = 0, roughness_m = 0, contact = 0;
     bool fits = false;    ///< step, roughness and contact within the robot's limits
+    /// ... also in the worst case: every sample's height off by its face's uncertainty bound,
+    /// unknown samples unsupported.
+    bool fits_worst = false;
     double badness = 0;   ///< largest layer / limit ratio (smaller is better)
   };
 
@@ -141,26 +156,52 @@ class LayerComputer {
     std::array<Eigen::Vector2d, 5> p;  ///< convex polygon (a triangle clipped by two planes)
     int n = 0;
     double top_m = 0;
+    /// From interpolated geometry: a possible obstacle (never lethal, never free).
+    bool possible = false;
+    /// How far a measured obstacle may extend beyond its face (EvidenceModel::obstacle_extension).
+    double extension_m = 0;
   };
   /// Clips face t (its sampling geometry) to the body of the face with centroid c and reference
   /// plane slopes (ref_a, ref_b); false if no part of it lies there.
   bool clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b, Obstacle& out) const;
-  /// Per heading, the top of the highest obstacle (obstacles_) the footprint meets, 0 if none,
-  /// for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp).
+  /// Per heading, the top of the highest measured obstacle (obstacles_) the footprint meets, 0 if
+  /// none, for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp); and in
+  /// possible_, per heading, whether the footprint at the centroid meets a possible obstacle or
+  /// the possible extension of a measured one.
   const std::vector<double>& obstacleTops(const StoredFace& f, bool steep,
                                           std::array<Eigen::Vector2d, kObstaclePoints>& points) const;
-  /// Whether the footprint centred at `at` (relative to the centroid) at heading k meets the obstacle.
-  bool meets(const Obstacle& o, std::size_t heading, const Eigen::Vector2d& at) const;
+  /// Whether the footprint centred at `at` (relative to the centroid) at heading k, grown by
+  /// `margin_m` on every side (a rectangle: its half-extents), meets the obstacle.
+  bool meets(const Obstacle& o, std::size_t heading, const Eigen::Vector2d& at, double margin_m = 0) const;
 
+  /// Collects, for face s, its ground candidates (candidates_) and the parts of non-ground faces
+  /// inside its body (obstacles_), measured or possible, with their possible extension.
+  void collectNearby(const SurfaceStore& store, Slot s, const Reference& reference_plane, bool driven) const;
+  /// Sets the clearance of face s (clearance_m, clearance_unknown_low): the first face above its
+  /// centroid; over driven ground, faces the drive contradicts do not count.
+  void computeClearance(SurfaceStore& store, Slot s, bool driven) const;
   /// Finds, for every footprint sample of the face with centroid c, the ground closest to the
   /// sample's reference height (z_ and level_ scratch; NaN where none).
-  void sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c) const;
+  /// With `driven_only` (a driven face: the robot stood there, its footprint on driven ground),
+  /// only driven faces are ground; elsewhere the samples are unknown, not missing.
+  void sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c, bool driven_only) const;
   /// Fills terms_ from the sampled ground (z_, ref_) of the face with centroid c.
   void prepareSamples(const Eigen::Vector3d& c, bool steep) const;
   /// Judges the footprint made of `samples` (indices in offsets_) from the sampled ground (terms_);
   /// the face's reference plane is z = c.z + ref_a x + ref_b y; `steep`: the face is steeper than
   /// max_slope.
-  HeadingResult judgeHeading(const std::vector<int>& samples, double ref_a, double ref_b, bool steep) const;
+  /// `own_relief_m`: the relief the face itself may hide (its centroid is a sample too). With
+  /// `driven`, the worst case counts support over the known samples as the nominal contact does
+  /// (the robot stood there).
+  HeadingResult judgeHeading(const std::vector<int>& samples, double ref_a, double ref_b, bool steep,
+                             double own_relief_m, bool driven) const;
+  /// How far the measured obstacle face t may extend beyond what was measured of it.
+  double obstacleExtensionM(const SampleGeometry& t) const;
+  /// Whether face s rises no more than max_step_m between its vertices, or its plane is confirmed
+  /// beyond it along its slope: a measured vertex of an edge neighbour, farther up or down the
+  /// slope than the face's own vertices, within the point noise of the plane. Reads only s and its
+  /// edge neighbours (which TraversabilityMap re-judges with it).
+  bool riseConfirmed(const SurfaceStore& store, Slot s) const;
 
   /// Per footprint offset (x, y): the products its row (x, y, 1) adds to a plane fit's normal
   /// matrix (x x, x y, x, y y, y; the 1 is added as 1).
@@ -170,12 +211,14 @@ class LayerComputer {
   /// Per sample of the current face: dz = ground - centroid height, x dz, y dz and flags.
   struct SampleTerms {
     double dz = 0, x_dz = 0, y_dz = 0;
+    double relief_m = 0;  ///< the relief the face the sample found may hide
     char flags = 0;
   };
   static constexpr char kFound = 1;      ///< the sample found ground
   static constexpr char kInLevel = 2;    ///< ... within the face's level band (not steep faces)
   static constexpr char kSupported = 4;  ///< ... within max_step + contact_tolerance of the plane
   static constexpr char kUnknown = 8;    ///< no measured ground, only Steiner faces, in its band
+  static constexpr char kSupportedWorst = 16;  ///< ... supported even off by its face's relief
   /// Contact is the supported share of the known samples, but of at least this share of all
   /// samples: a footprint over more unknown than this counts the excess as unsupported.
   static constexpr double kMinKnownSampleFraction = 0.5;
@@ -202,10 +245,13 @@ class LayerComputer {
   mutable std::vector<Slot> candidates_;
   mutable std::vector<double> ref_;
   mutable std::vector<double> z_;
+  mutable std::vector<double> z_relief_;  ///< the relief of the face each sample found
   mutable std::vector<char> level_;
   mutable std::vector<SampleTerms> terms_;
   mutable std::vector<Obstacle> obstacles_;
   mutable std::vector<double> tops_;
+  mutable std::vector<char> possible_;
+  mutable std::vector<Slot> neighbours_;
 };
 
 }  // namespace terramesh::traversability::internal

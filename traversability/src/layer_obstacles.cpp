@@ -57,14 +57,15 @@ bool LayerComputer::clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c
   return true;
 }
 
-bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eigen::Vector2d& at) const {
+bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eigen::Vector2d& at,
+                          double margin_m) const {
   // The shadow relative to the footprint's centre `at`.
   Obstacle o = shadow;
   for (int i = 0; i < o.n; ++i) o.p[static_cast<std::size_t>(i)] -= at;
   const int n = o.n;
   if (profile_.footprint == FootprintShape::kDisc) {
     // Inside the polygon (strictly: a degenerate one has no inside) or within R of an edge.
-    const double r2 = radius_m_ * radius_m_;
+    const double r2 = (radius_m_ + margin_m) * (radius_m_ + margin_m);
     bool positive = true, negative = true;
     for (int i = 0; i < n; ++i) {
       const Eigen::Vector2d& p = o.p[static_cast<std::size_t>(i)];
@@ -82,7 +83,7 @@ bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eig
   // Separating axes: the rectangle's two and the polygon's edge normals (touching counts).
   const Eigen::Vector2d& u = heading_axes_[heading].first;
   const Eigen::Vector2d& v = heading_axes_[heading].second;
-  const double half_a = 0.5 * profile_.footprint_length_m, half_b = 0.5 * profile_.footprint_width_m;
+  const double half_a = 0.5 * profile_.footprint_length_m + margin_m, half_b = 0.5 * profile_.footprint_width_m + margin_m;
   const auto separated = [&](const Eigen::Vector2d& axis, double half) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (int i = 0; i < n; ++i) {
@@ -106,14 +107,21 @@ const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool
                                                        std::array<Eigen::Vector2d, kObstaclePoints>& points) const {
   const std::size_t headings = heading_samples_.size();
   tops_.assign(headings, 0.0);
-  // The highest obstacle the footprint at point j and heading k meets (0: none).
+  possible_.assign(headings, 0);
+  // The highest measured obstacle the footprint at point j and heading k meets (0: none).
   const auto topAt = [&](const Eigen::Vector2d& at, std::size_t k) {
     double top = 0;
     for (const Obstacle& o : obstacles_) {
-      if (o.top_m > top && meets(o, k, at)) top = o.top_m;
+      if (!o.possible && o.top_m > top && meets(o, k, at)) top = o.top_m;
     }
     return top;
   };
+  // Possible obstacles at the centroid: interpolated ones, and where measured ones may extend.
+  for (const Obstacle& o : obstacles_) {
+    for (std::size_t k = 0; k < headings; ++k) {
+      if (!possible_[k] && meets(o, k, Eigen::Vector2d::Zero(), o.extension_m)) possible_[k] = 1;
+    }
+  }
   const int n = obstaclePoints(f, steep, points);
   // At the centroid, heading by heading (a heading that collides there does not fit).
   bool centroid_blocked = true;

@@ -21,10 +21,12 @@ std::vector<FaceClass> LayeredMesh::vertexClass() const {
   std::vector<FaceClass> result(mesh.vertices.size(), FaceClass::kUnknown);
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
     const FaceClass c = layers[f].face_class;
+    // Lethal before uncertain before free before unknown.
+    const auto rank = [](FaceClass k) {
+      return k == FaceClass::kLethal ? 3 : k == FaceClass::kUncertain ? 2 : k == FaceClass::kFree ? 1 : 0;
+    };
     for (std::uint32_t v : mesh.faces[f]) {
-      if (c == FaceClass::kLethal || (c == FaceClass::kFree && result[v] == FaceClass::kUnknown)) {
-        result[v] = c;
-      }
+      if (rank(c) > rank(result[v])) result[v] = c;
     }
   }
   return result;

@@ -25,6 +25,11 @@ constexpr FloatLayer kFloatLayers[] = {
     {"lethal_distance_m", &FaceLayers::lethal_distance_m},
 };
 
+/// Read from files that have it (older maps do not: their faces keep the defaults).
+constexpr FloatLayer kOptionalFloatLayers[] = {
+    {"height_uncertainty_m", &FaceLayers::height_uncertainty_m},
+};
+
 const ply::Property& require(const ply::Element& element, const std::string& name, const std::string& file) {
   const ply::Property* property = element.find(name);
   if (!property) throw InputError(file, "element " + element.name, "missing property \"" + name + "\"");
@@ -39,6 +44,7 @@ void writeLayeredPly(const std::filesystem::path& path, const LayeredMesh& map) 
   ply::Document document;
   document.comments.push_back("terramesh traversability map: per-face layers (docs/traversability.md)");
   document.comments.push_back("cost in [0,1], NaN = unknown; lengths in metres; infinite clearance = nothing above");
+  document.comments.push_back("evidence: 0 measured, 1 driven, 2 interpolated; uncertain = the evidence cannot decide");
   // Each property is filled right after it is added (adding may move the earlier ones).
   const auto scalar = [](ply::Element& element, const char* name, Type type, std::size_t count, auto value) {
     ply::Property& property = element.addScalar(name, type);
@@ -70,10 +76,23 @@ void writeLayeredPly(const std::filesystem::path& path, const LayeredMesh& map) 
   scalar(faces, "lethal", Type::kUInt8, face_count, [&](std::size_t f) { return layers[f].face_class == FaceClass::kLethal; });
   scalar(faces, "unknown", Type::kUInt8, face_count,
          [&](std::size_t f) { return layers[f].face_class == FaceClass::kUnknown; });
+  scalar(faces, "uncertain", Type::kUInt8, face_count,
+         [&](std::size_t f) { return layers[f].face_class == FaceClass::kUncertain; });
   for (const FloatLayer& layer : kFloatLayers) {
     scalar(faces, layer.name, Type::kFloat32, face_count, [&](std::size_t f) { return layers[f].*layer.member; });
   }
+  for (const FloatLayer& layer : kOptionalFloatLayers) {
+    scalar(faces, layer.name, Type::kFloat32, face_count, [&](std::size_t f) { return layers[f].*layer.member; });
+  }
+  scalar(faces, "evidence", Type::kUInt8, face_count,
+         [&](std::size_t f) { return static_cast<int>(layers[f].evidence); });
   scalar(faces, "rays", Type::kUInt32, face_count, [&](std::size_t f) { return layers[f].rays; });
+  // What the evidence of a recomputation (another robot: plan --robot, traverse) starts from.
+  const bool crossings = mesh.face_front_crossings.size() == face_count;
+  if (crossings) {
+    scalar(faces, "front_crossings", Type::kUInt32, face_count,
+           [&](std::size_t f) { return mesh.face_front_crossings[f]; });
+  }
   scalar(faces, "steiner", Type::kUInt8, face_count, [&](std::size_t f) { return layers[f].steiner; });
   ply::writeFile(path, document, ply::Format::kBinaryLittleEndian);
 }
@@ -107,6 +126,11 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
   const ply::Property& steiner = require(*faces, "steiner", file);
   std::vector<const ply::Property*> float_layers;
   for (const FloatLayer& layer : kFloatLayers) float_layers.push_back(&require(*faces, layer.name, file));
+  const ply::Property* uncertain = faces->find("uncertain");
+  const ply::Property* front_crossings = faces->find("front_crossings");
+  const ply::Property* evidence = faces->find("evidence");
+  std::vector<const ply::Property*> optional_layers;
+  for (const FloatLayer& layer : kOptionalFloatLayers) optional_layers.push_back(faces->find(layer.name));
   mesh.faces.resize(faces->count);
   map.layers.resize(faces->count);
   for (std::size_t f = 0; f < faces->count; ++f) {
@@ -121,9 +145,13 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
       mesh.faces[f][k] = static_cast<std::uint32_t>(index);
     }
     FaceLayers& layers = map.layers[f];
-    if (lethal.values[f] != 0 && unknown.values[f] != 0) throw InputError(file, where, "both lethal and unknown");
+    const bool is_uncertain = uncertain && !uncertain->isList() && uncertain->values[f] != 0;
+    if ((lethal.values[f] != 0) + (unknown.values[f] != 0) + is_uncertain > 1) {
+      throw InputError(file, where, "more than one of lethal, unknown and uncertain");
+    }
     layers.face_class = lethal.values[f] != 0   ? FaceClass::kLethal
                         : unknown.values[f] != 0 ? FaceClass::kUnknown
+                        : is_uncertain           ? FaceClass::kUncertain
                                                  : FaceClass::kFree;
     layers.cost = static_cast<float>(cost.values[f]);
     if (layers.face_class != FaceClass::kUnknown && !(layers.cost >= 0 && layers.cost <= 1)) {
@@ -132,8 +160,26 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
     for (std::size_t l = 0; l < float_layers.size(); ++l) {
       layers.*kFloatLayers[l].member = static_cast<float>(float_layers[l]->values[f]);
     }
+    for (std::size_t l = 0; l < optional_layers.size(); ++l) {
+      if (optional_layers[l] && !optional_layers[l]->isList()) {
+        layers.*kOptionalFloatLayers[l].member = static_cast<float>(optional_layers[l]->values[f]);
+      }
+    }
+    if (evidence && !evidence->isList()) {
+      const double e = evidence->values[f];
+      if (!(e == 0 || e == 1 || e == 2)) {
+        throw InputError(file, where, "evidence " + std::to_string(e) + " (expected 0 measured, 1 driven or 2 interpolated)");
+      }
+      layers.evidence = static_cast<Evidence>(static_cast<int>(e));
+    }
     layers.rays = static_cast<std::uint32_t>(rays.values[f]);
     layers.steiner = steiner.values[f] != 0;
+    if (front_crossings && !front_crossings->isList()) {
+      const double c = front_crossings->values[f];
+      if (!(c >= 0) || c > rays.values[f]) throw InputError(file, where, "front_crossings must be a count <= rays");
+      mesh.face_rays.push_back(layers.rays);
+      mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(c));
+    }
   }
   return map;
 }

@@ -10,7 +10,8 @@
 namespace terramesh::traversability {
 namespace {
 
-constexpr int kRankNone = 0, kRankOther = 1, kRankWalkable = 2, kRankLethal = 3;
+// A cell shows its most restrictive face: lethal, then uncertain (never shown as free), then free.
+constexpr int kRankNone = 0, kRankOther = 1, kRankWalkable = 2, kRankUncertain = 3, kRankLethal = 4;
 
 }  // namespace
 
@@ -69,7 +70,11 @@ LevelGrid rasterizeLevel(const LayeredMesh& map, const MapPlane& plane, const Le
     if (levels.face_level[f] != id || !plans[f].valid) continue;
     const internal::FacePlan& p = plans[f];
     const bool lethal = map.layers[f].face_class == FaceClass::kLethal;
-    const int face_rank = lethal ? kRankLethal : levels.walkable[f] ? kRankWalkable : kRankOther;
+    const bool uncertain = map.layers[f].face_class == FaceClass::kUncertain;
+    const int face_rank = lethal      ? kRankLethal
+                          : uncertain ? kRankUncertain
+                          : levels.walkable[f] ? kRankWalkable
+                                               : kRankOther;
     const std::int64_t c0 = std::max<std::int64_t>(0, colOf(p.min_m.x()));
     const std::int64_t c1 = std::min<std::int64_t>(static_cast<std::int64_t>(grid.width) - 1, colOf(p.max_m.x()));
     const std::int64_t w0 = std::max<std::int64_t>(0, rowOf(p.min_m.y()));

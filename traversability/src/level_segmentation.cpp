@@ -142,7 +142,9 @@ Levels segmentLevels(const LayeredMesh& map, const MapPlane& plane, const LevelC
   std::vector<std::vector<std::pair<CellKey, HeightRange>>> footprints(face_count);
   for (std::size_t f = 0; f < face_count; ++f) {
     plans[f] = internal::planFace(mesh, f, plane);
-    walkable[f] = map.layers[f].face_class == FaceClass::kFree && plans[f].up_cosine > 0.05;
+    // Levels are the surfaces a robot may stand on: free, or measured but uncertain.
+    const FaceClass c = map.layers[f].face_class;
+    walkable[f] = (c == FaceClass::kFree || c == FaceClass::kUncertain) && plans[f].up_cosine > 0.05;
     if (walkable[f]) footprints[f] = internal::cellHeightRanges(plans[f], config.overlap_cell_m);
   }
   const auto neighbours = faceNeighbours(mesh);

@@ -35,15 +35,20 @@ void statsLine(std::ostream& out, const std::string& name, std::vector<float> va
 std::string mapSummary(const LayeredMesh& map, const Levels& levels, const std::vector<LevelGrid>& grids) {
   std::ostringstream out;
   out << std::setprecision(4);
-  std::size_t counts[3] = {0, 0, 0};
-  for (const FaceLayers& l : map.layers) ++counts[static_cast<int>(l.face_class)];
+  std::size_t counts[4] = {0, 0, 0, 0}, evidence[3] = {0, 0, 0};
+  for (const FaceLayers& l : map.layers) {
+    ++counts[static_cast<int>(l.face_class)];
+    ++evidence[static_cast<int>(l.evidence)];
+  }
   out << "faces: " << map.layers.size() << " (free " << counts[0] << ", lethal " << counts[1] << ", unknown "
-      << counts[2] << ")\nvertices: " << map.mesh.vertices.size() << "\nmetres_per_unit: " << map.metres_per_unit
+      << counts[2] << ", uncertain " << counts[3] << ")\nevidence: measured " << evidence[0] << ", driven "
+      << evidence[1] << ", interpolated " << evidence[2] << " faces\nvertices: " << map.mesh.vertices.size()
+      << "\nmetres_per_unit: " << map.metres_per_unit
       << "\nup: " << map.up_W.x() << " " << map.up_W.y() << " " << map.up_W.z() << "\nlevels: " << levels.count()
       << '\n';
   for (std::size_t l = 0; l < levels.count(); ++l) {
     const LevelGrid& grid = grids[l];
-    std::size_t cells[3] = {0, 0, 0}, empty = 0, faces = 0;
+    std::size_t cells[4] = {0, 0, 0, 0}, empty = 0, faces = 0;
     for (std::size_t i = 0; i < grid.face.size(); ++i) {
       if (grid.face[i] < 0) ++empty;
       else ++cells[static_cast<int>(grid.cell_class[i])];
@@ -53,8 +58,8 @@ std::string mapSummary(const LayeredMesh& map, const Levels& levels, const std::
     out << "level " << l << ": mean height " << levels.mean_height_m[l] << " m, walkable area "
         << levels.walkable_area_m2[l] << " m^2, " << faces << " faces; grid " << grid.width << " x " << grid.height
         << " at " << grid.resolution_m << " m: free " << static_cast<double>(cells[0]) * cell_area << " m^2, lethal "
-        << static_cast<double>(cells[1]) * cell_area << " m^2, unknown " << static_cast<double>(cells[2]) * cell_area
-        << " m^2, no surface " << static_cast<double>(empty) * cell_area << " m^2\n";
+        << static_cast<double>(cells[1]) * cell_area  << " m^2, unknown " << static_cast<double>(cells[2]) * cell_area
+        << " m^2, uncertain " << static_cast<double>(cells[3]) * cell_area << " m^2, no surface " << static_cast<double>(empty) * cell_area << " m^2\n";
   }
   out << "layer statistics over known faces:\n";
   const auto known = [&](auto get) {
@@ -77,6 +82,7 @@ std::string mapSummary(const LayeredMesh& map, const Levels& levels, const std::
   statsLine(out, "clearance_m", known([](const FaceLayers& l) { return l.clearance_m; }));
   statsLine(out, "lethal_distance_m", known([](const FaceLayers& l) { return l.lethal_distance_m; }));
   statsLine(out, "rays", known([](const FaceLayers& l) { return static_cast<float>(l.rays); }));
+  statsLine(out, "height_uncertainty_m", known([](const FaceLayers& l) { return l.height_uncertainty_m; }));
   return out.str();
 }
 

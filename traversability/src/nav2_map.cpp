@@ -105,7 +105,10 @@ void writeNav2Maps(const std::filesystem::path& dir, const std::string& base, co
       pgm[header + pixel] = static_cast<char>(c == FaceClass::kFree     ? kFreePixel
                                               : c == FaceClass::kLethal ? kLethalPixel
                                                                         : kUnknownPixel);
-      const float cost = c == FaceClass::kFree ? map.layers[static_cast<std::size_t>(grid.face[cell])].cost : 0.0f;
+      // Uncertain cells are unknown in the trinary map (the evidence cannot decide: never free,
+      // never lethal by invention) and carry their own cost in the scale map.
+      const bool has_cost = c == FaceClass::kFree || c == FaceClass::kUncertain;
+      const float cost = has_cost ? map.layers[static_cast<std::size_t>(grid.face[cell])].cost : 0.0f;
       const bool no_cost = c == FaceClass::kUnknown || !std::isfinite(cost);  // a free face without a cost
       alpha[pixel] = no_cost ? 0 : 255;
       grey[pixel] = no_cost ? kUnknownPixel : c == FaceClass::kLethal ? kLethalPixel : costPixel(cost);

@@ -61,6 +61,20 @@ const std::vector<NumericKey>& numericKeys() {
       {"weights.roughness", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.roughness; }},
       {"weights.contact", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.contact; }},
       {"weights.inflation", {0, 1000, false, false}, false, [](RobotProfile& p) -> double& { return p.weights.inflation; }},
+      {"evidence.point_noise_m", {0, 10, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.point_noise_m; }},
+      {"evidence.relief_per_m_observed", {0, 10, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.relief_per_m_observed; }},
+      {"evidence.relief_per_m_unobserved", {0, 10, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.relief_per_m_unobserved; }},
+      {"evidence.driven_uncertainty_m", {0, 10, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.driven_uncertainty_m; }},
+      {"evidence.obstacle_extension", {0, 10, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.obstacle_extension; }},
+      {"evidence.max_obstacle_extension_m", {0, 100, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.max_obstacle_extension_m; }},
+      {"evidence.uncertain_cost", {0, 1, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.uncertain_cost; }},
   };
   return keys;
 }
@@ -73,6 +87,34 @@ std::string formatNumber(double value) {
   out.precision(10);
   out << value;
   return out.str();
+}
+
+// ---- Sensor mounting (trajectory evidence) ----
+
+const Range kSensorHeightRange{0, 20, true, false};
+
+void addMountingProblems(const RobotProfile& profile, std::vector<std::string>& problems) {
+  if (profile.sensor_height_m && !kSensorHeightRange.contains(*profile.sensor_height_m)) {
+    problems.push_back("sensor_height_m: " + formatNumber(*profile.sensor_height_m) + " (expected " +
+                       kSensorHeightRange.text() + ")");
+  }
+  if (!profile.T_B_S) return;
+  const Eigen::Isometry3d& T = *profile.T_B_S;
+  const Eigen::Matrix3d R = T.linear();
+  if (!T.matrix().allFinite() || (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+      R.determinant() < 0) {
+    problems.push_back("sensor_pose_in_base: not a finite rigid transform (expected a translation and a rotation)");
+    return;
+  }
+  const double z = T.translation().z();
+  if (!kSensorHeightRange.contains(z)) {
+    problems.push_back("sensor_pose_in_base.translation_m[2]: " + formatNumber(z) + " (expected " +
+                       kSensorHeightRange.text() + ")");
+  }
+  if (profile.sensor_height_m && std::abs(*profile.sensor_height_m - z) > 1e-6) {
+    problems.push_back("sensor_height_m: " + formatNumber(*profile.sensor_height_m) +
+                       " (expected the height of sensor_pose_in_base, " + formatNumber(z) + ")");
+  }
 }
 
 /// Every problem of a profile, each "key: value (expected ...)".
@@ -112,6 +154,7 @@ std::vector<std::string> problemsOf(const RobotProfile& profile) {
   if (copy.gravity_W && (!copy.gravity_W->allFinite() || copy.gravity_W->norm() < 1e-12)) {
     problems.push_back("gravity: not a finite non-zero vector (expected auto or [x, y, z])");
   }
+  addMountingProblems(copy, problems);
   return problems;
 }
 
@@ -149,13 +192,22 @@ class ProfileReader {
         profile.min_rays = readInteger(value, key, kMinRaysRange);
       } else if (key == "gravity") {
         profile.gravity_W = readGravity(value);
+      } else if (key == "evidence") {
+        readSection(value, key,
+                    {"point_noise_m", "relief_per_m_observed", "relief_per_m_unobserved", "driven_uncertainty_m",
+                     "obstacle_extension", "max_obstacle_extension_m", "uncertain_cost"},
+                    profile);
+      } else if (key == "sensor_height_m") {
+        profile.sensor_height_m = readNumber(value, key, kSensorHeightRange);
+      } else if (key == "sensor_pose_in_base") {
+        profile.T_B_S = readSensorPose(value);
       } else if (const NumericKey* numeric = find(key)) {
         numeric->field(profile) = readNumber(value, key, numeric->range);
       } else {
         fail(entry.first, key, "an unknown key",
              "one of name, footprint, max_slope_deg, max_step_m, max_roughness_m, min_clearance_m, "
              "contact_tolerance_m, min_support, contact_headings, inscribed_radius_m, inflation_radius_m, "
-             "cost_scaling_factor, weights, min_rays, gravity");
+             "cost_scaling_factor, weights, min_rays, gravity, evidence, sensor_height_m, sensor_pose_in_base");
       }
     }
     if (!has_name) throw InputError(file_, "name", "missing: every profile needs a name");
@@ -258,14 +310,66 @@ class ProfileReader {
     fail(node, "gravity", describe(node), "auto or a non-zero [x, y, z] pointing down in the map frame");
   }
 
+  std::vector<double> readVector(const YAML::Node& node, const std::string& key, std::size_t size) const {
+    if (!node.IsSequence() || node.size() != size) {
+      fail(node, key, describe(node), "a sequence of " + std::to_string(size) + " numbers");
+    }
+    std::vector<double> values;
+    for (std::size_t i = 0; i < size; ++i) {
+      values.push_back(readNumber(node[i], key + "[" + std::to_string(i) + "]", Range{-1e9, 1e9, false, false}));
+    }
+    return values;
+  }
+
+  /// sensor_pose_in_base: {translation_m: [x, y, z], rotation_xyzw: [x, y, z, w]}, both required.
+  Eigen::Isometry3d readSensorPose(const YAML::Node& node) const {
+    const std::string key = "sensor_pose_in_base";
+    const char* expected = "{translation_m: [x, y, z], rotation_xyzw: [x, y, z, w]}";
+    if (!node.IsMap()) fail(node, key, describe(node), expected);
+    for (const auto& entry : node) {
+      const std::string name = keyText(entry.first, key + ".");
+      if (name != "translation_m" && name != "rotation_xyzw") {
+        fail(entry.first, key + "." + name, "an unknown key", "one of translation_m, rotation_xyzw");
+      }
+    }
+    if (!node["translation_m"] || !node["rotation_xyzw"]) fail(node, key, "a mapping missing a key", expected);
+    const std::vector<double> t = readVector(node["translation_m"], key + ".translation_m", 3);
+    const std::vector<double> q = readVector(node["rotation_xyzw"], key + ".rotation_xyzw", 4);
+    const Eigen::Quaterniond rotation(q[3], q[0], q[1], q[2]);
+    if (rotation.norm() < 1e-9) fail(node["rotation_xyzw"], key + ".rotation_xyzw", "a zero quaternion", "a non-zero quaternion");
+    Eigen::Isometry3d T_B_S = Eigen::Isometry3d::Identity();
+    T_B_S.linear() = rotation.normalized().toRotationMatrix();
+    T_B_S.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+    return T_B_S;
+  }
+
   std::string file_;
 };
+
+void writeMounting(YAML::Emitter& out, const RobotProfile& profile) {
+  if (profile.sensor_height_m) out << YAML::Key << "sensor_height_m" << YAML::Value << *profile.sensor_height_m;
+  if (!profile.T_B_S) return;
+  const Eigen::Vector3d t = profile.T_B_S->translation();
+  const Eigen::Quaterniond q(profile.T_B_S->linear());
+  out << YAML::Key << "sensor_pose_in_base" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "translation_m" << YAML::Value << YAML::Flow << YAML::BeginSeq << t.x() << t.y() << t.z()
+      << YAML::EndSeq;
+  out << YAML::Key << "rotation_xyzw" << YAML::Value << YAML::Flow << YAML::BeginSeq << q.x() << q.y() << q.z()
+      << q.w() << YAML::EndSeq;
+  out << YAML::EndMap;
+}
 
 }  // namespace
 
 double RobotProfile::footprintCircumradiusM() const {
   if (footprint == FootprintShape::kDisc) return footprint_radius_m;
   return 0.5 * std::hypot(footprint_length_m, footprint_width_m);
+}
+
+std::optional<double> RobotProfile::mountedSensorHeightM() const {
+  if (sensor_height_m) return sensor_height_m;
+  if (T_B_S) return T_B_S->translation().z();
+  return std::nullopt;
 }
 
 void RobotProfile::validate() const {
@@ -306,6 +410,13 @@ void writeRobotProfile(const std::filesystem::path& path, const RobotProfile& pr
   out << YAML::Key << "contact" << YAML::Value << profile.weights.contact;
   out << YAML::Key << "inflation" << YAML::Value << profile.weights.inflation;
   out << YAML::EndMap;
+  out << YAML::Key << "evidence" << YAML::Value << YAML::BeginMap;
+  for (const NumericKey& key : numericKeys()) {
+    const std::string k = key.key;
+    if (k.rfind("evidence.", 0) != 0) continue;
+    out << YAML::Key << k.substr(9) << YAML::Value << key.field(copy);
+  }
+  out << YAML::EndMap;
   out << YAML::Key << "gravity" << YAML::Value;
   if (profile.gravity_W) {
     out << YAML::Flow << YAML::BeginSeq << profile.gravity_W->x() << profile.gravity_W->y() << profile.gravity_W->z()
@@ -313,6 +424,7 @@ void writeRobotProfile(const std::filesystem::path& path, const RobotProfile& pr
   } else {
     out << "auto";
   }
+  writeMounting(out, profile);
   out << YAML::EndMap;
   writeFileAtomically(path, std::string(out.c_str()) + "\n");
 }

@@ -59,6 +59,8 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   f.min_z = std::min({f.p_L[0].z(), f.p_L[1].z(), f.p_L[2].z()});
   f.max_z = std::max({f.p_L[0].z(), f.p_L[1].z(), f.p_L[2].z()});
   f.rays = input.rays;
+  f.front_crossings = input.front_crossings;
+  f.driven_vertices = input.driven_vertices;
   f.steiner = input.touches_steiner;
   for (const auto& v : input.vertices) f.steiner = f.steiner || v.steiner;
   f.alive = true;
@@ -83,6 +85,10 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   g.max_z = f.max_z;
   g.normal_z = f.normal_L.z();
   g.steiner = f.steiner;
+  g.touches_driven = f.driven_vertices > 0;
+  g.driven = f.driven_vertices == 3 && !f.steiner;
+  g.span_m = std::sqrt(std::max({(f.p_L[1] - f.p_L[0]).head<2>().squaredNorm(), (f.p_L[2] - f.p_L[1]).head<2>().squaredNorm(),
+                                 (f.p_L[0] - f.p_L[2]).head<2>().squaredNorm()}));
   // heightAt: u = ((b - q) x (c - q)) / det, v = ((c - q) x (a - q)) / det, relative to a.
   const double det = g.bx * g.cy - g.cx * g.by;
   g.sampleable = std::abs(det) >= 1e-12 && std::abs(f.projected_det) >= 1e-12;

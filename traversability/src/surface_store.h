@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <tsl/robin_map.h>
 #include <vector>
@@ -32,6 +33,10 @@ struct StoredFace {
   /// Twice the signed area of the horizontal projection (cached for heightAt).
   double projected_det = 0;
   std::uint32_t rays = 0;
+  /// Rays through the free cell in front of the face (mesher::SurfaceFace::front_crossings).
+  std::uint32_t front_crossings = 0;
+  /// How many vertices are driven-ground samples (mesher::SurfaceFace::driven_vertices).
+  std::uint8_t driven_vertices = 0;
   bool steiner = false;
   bool alive = false;
   FaceLayers layers;
@@ -43,6 +48,17 @@ struct StoredFace {
   /// heading the layers report (the best one), which the cost uses.
   bool footprint_fits = true;
   float heading_contact = 1;
+  /// Set with the local layers: whether the footprint also fits at some heading in the worst case
+  /// within the height uncertainty of the ground it stands on (unknown samples unsupported), away
+  /// from possible obstacles (interpolated walls, the possible extension of measured ones).
+  bool footprint_fits_worst = true;
+  /// Set with the local layers: the first face above the centroid is closing geometry lower than
+  /// the robot (the clearance cannot be known to suffice).
+  bool clearance_unknown_low = false;
+  /// Set with the local layers: the face rises no more than max_step_m, or a measured point of an
+  /// edge neighbour beyond it along its slope lies on its plane (a ramp, not a step hidden in
+  /// the span).
+  bool rise_confirmed = true;
 
   /// Height of the face's plane at horizontal position (x, y), if (x, y) lies in the face's
   /// horizontal projection and the face is not vertical.
@@ -76,6 +92,18 @@ struct SampleGeometry {
   double normal_z = 1;
   bool sampleable = false;  ///< the projection is not degenerate (heightAt can find it)
   bool steiner = false;
+  /// The face's evidence is interpolated (closing geometry or an unobserved span): as an obstacle
+  /// it is only a possible one.
+  bool interpolated = true;
+  /// Whether a vertex is a driven-ground sample (StoredFace::driven_vertices > 0), and whether all
+  /// three are.
+  bool touches_driven = false;
+  bool driven = false;
+  /// The relief the face's span may hide (its height uncertainty bound less the noise floor that
+  /// the measured step already shows: 0 for driven ground, +inf for closing geometry) and its
+  /// longest horizontal edge, metres.
+  double relief_m = std::numeric_limits<double>::infinity();
+  double span_m = 0;
 
   /// Height of the face's plane at (x, y) if (x, y) lies in its projection (heightAt's test).
   std::optional<double> heightAt(double x, double y) const {
@@ -136,6 +164,11 @@ class SurfaceStore {
   const FaceBounds& bounds(Slot s) const { return bounds_[s]; }
   /// The face's sampling geometry (equal to that of face(s)).
   const SampleGeometry& geometry(Slot s) const { return geometry_[s]; }
+  /// Sets the evidence fields of the face's sampling geometry (kept equal to its layers').
+  void setSampleEvidence(Slot s, bool interpolated, double relief_m) {
+    geometry_[s].interpolated = interpolated;
+    geometry_[s].relief_m = relief_m;
+  }
   /// The face's centroid (equal to face(s).centroid_L), packed densely.
   const Eigen::Vector3d& centroid(Slot s) const { return centroids_[s]; }
   /// Number of slots (alive or not).

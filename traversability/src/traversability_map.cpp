@@ -55,12 +55,12 @@ struct Projection {
   Eigen::Vector2d lo, hi;
 };
 
-/// A face added or removed: its projection, bounds and whether heightAt can sample it.
+/// A face added, removed or re-judged by its evidence: its projection, bounds and whether
+/// heightAt can sample it.
 struct Change {
   Projection projection;
   internal::FaceBounds bounds;
   bool sampleable = false;
-  bool steiner = false;
 };
 
 Projection projectionOf(const StoredFace& f) {
@@ -138,6 +138,7 @@ class TraversabilityMap::Impl {
     for (Slot s = 0; s < store_.slotCount(); ++s) {
       if (!store_.face(s).alive) continue;
       all.push_back(s);
+      computer_.setEvidence(store_, s);
       window_[s] = computer_.groundWindow(store_.face(s));
     }
     for (Slot s : all) computeLocalAndLethal(s);
@@ -152,12 +153,12 @@ class TraversabilityMap::Impl {
     return stats;
   }
 
-  LayerUpdateStats apply(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around) {
-    if (!delta.complete) {
-      throw std::invalid_argument("TraversabilityMap::apply: incomplete delta (history forgotten); call reset()");
-    }
-    const auto start = std::chrono::steady_clock::now();
-    LayerUpdateStats stats;
+  /// The first step of apply(): removes and adds the delta's faces and re-reads the observation
+  /// counts of churned faces and of `around`. Fills the scratch lists apply() reads: change
+  /// points, changed faces, edge neighbours of the faces added and removed, re-observed and
+  /// re-evidenced faces, faces added.
+  void replaceFaces(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around,
+                    LayerUpdateStats& stats) {
     // Centroids (L) of the changes the inflation must see: faces added, faces removed that were
     // within the inflation radius of a lethal face (a face at no finite distance lies on no
     // shortest path, so removing it changes no distance), faces re-judged lethal or not.
@@ -165,28 +166,43 @@ class TraversabilityMap::Impl {
     change_points.clear();
     std::vector<Change>& changed = changed_;  // the faces added and removed
     changed.clear();
+    std::vector<Slot>& edge_neighbours = edge_neighbours_;  // of the faces added and removed
+    edge_neighbours.clear();
     const auto removeKey = [&](const mesher::FaceKey& key) {
       const std::optional<Slot> slot = store_.find(key);
       if (!slot) return false;
       const bool had_distance = std::isfinite(distance_[*slot]);
-      changed.push_back({projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable,
-                         store_.geometry(*slot).steiner});
+      changed.push_back({projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable});
       if (had_distance) change_points.push_back(store_.centroid(*slot));
+      // Its edge neighbours' rise confirmation read its vertices (LayerComputer::riseConfirmed).
+      store_.neighbours(*slot, scratch_neighbours_);
+      edge_neighbours.insert(edge_neighbours.end(), scratch_neighbours_.begin(), scratch_neighbours_.end());
       lethal_[*slot] = 0;
       distance_[*slot] = kInf;
       store_.removeSlot(*slot);
       return true;
     };
     // Churn: a face removed and re-added with the same vertices and positions changes nothing
-    // but (maybe) its observation count, which is re-read like the counts of `around`.
+    // but (maybe) its observation counts, which are re-read like the counts of `around`. A face
+    // whose evidence changes with them (rays now cross the space in front of it, or no longer do)
+    // changes what the faces around it may stand on or meet: it counts as a change.
     std::vector<Slot>& reobserved = reobserved_;
     reobserved.clear();
-    const auto setRays = [&](Slot s, std::uint32_t rays) {
+    std::vector<Slot>& reevidenced = reevidenced_;
+    reevidenced.clear();
+    const auto setRays = [&](Slot s, const mesher::SurfaceFace& face) {
       StoredFace& f = store_.face(s);
-      if (f.rays == rays) return;
-      f.rays = rays;
-      f.layers.rays = rays;
-      reobserved.push_back(s);
+      if (f.rays == face.rays && f.front_crossings == face.front_crossings) return;
+      f.rays = face.rays;
+      f.layers.rays = face.rays;
+      f.front_crossings = face.front_crossings;
+      if (computer_.setEvidence(store_, s)) {
+        reevidenced.push_back(s);
+        change_points.push_back(f.centroid_L);
+        changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
+      } else {
+        reobserved.push_back(s);
+      }
     };
     std::unordered_set<mesher::FaceKey>& unchanged = unchanged_;
     unchanged.clear();
@@ -194,7 +210,7 @@ class TraversabilityMap::Impl {
       const std::optional<Slot> s = store_.find(face.key);
       if (!s || !sameGeometry(store_.face(*s), face)) continue;
       unchanged.insert(face.key);
-      setRays(*s, face.rays);
+      setRays(*s, face);
     }
     stats.faces_readded_unchanged = unchanged.size();
     for (const mesher::FaceKey& key : delta.removed) {
@@ -212,17 +228,34 @@ class TraversabilityMap::Impl {
       grow();
       lethal_[s] = 0;
       distance_[s] = kInf;
+      computer_.setEvidence(store_, s);
       const StoredFace& f = store_.face(s);
       window_[s] = computer_.groundWindow(f);
       added.push_back(s);
       change_points.push_back(f.centroid_L);
-      changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable, store_.geometry(s).steiner});
+      changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
     }
     stats.faces_added += added.size();
     for (const mesher::SurfaceFace& face : around) {
-      if (const std::optional<Slot> s = store_.find(face.key)) setRays(*s, face.rays);
+      if (const std::optional<Slot> s = store_.find(face.key)) setRays(*s, face);
     }
-    stats.faces_reobserved = reobserved.size();
+    stats.faces_reobserved = reobserved.size() + reevidenced.size();
+
+  }
+
+  LayerUpdateStats apply(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around) {
+    if (!delta.complete) {
+      throw std::invalid_argument("TraversabilityMap::apply: incomplete delta (history forgotten); call reset()");
+    }
+    const auto start = std::chrono::steady_clock::now();
+    LayerUpdateStats stats;
+    replaceFaces(delta, around, stats);
+    std::vector<Eigen::Vector3d>& change_points = change_points_;
+    const std::vector<Change>& changed = changed_;
+    std::vector<Slot>& edge_neighbours = edge_neighbours_;
+    const std::vector<Slot>& reobserved = reobserved_;
+    const std::vector<Slot>& reevidenced = reevidenced_;
+    const std::vector<Slot>& added = added_;
 
     // Local layers: every face whose footprint disc or clearance column meets a changed face that
     // can be its ground, an obstacle in its footprint or its ceiling (LayerComputer::mayAffect).
@@ -236,7 +269,17 @@ class TraversabilityMap::Impl {
       dirty.push_back(s);
     };
     for (Slot s : added) markDirty(s);
+    for (Slot s : reevidenced) {
+      if (store_.face(s).alive) markDirty(s);
+    }
     const std::size_t added_dirty = dirty.size();
+    for (Slot s : added) {
+      store_.neighbours(s, scratch_neighbours_);
+      edge_neighbours.insert(edge_neighbours.end(), scratch_neighbours_.begin(), scratch_neighbours_.end());
+    }
+    for (Slot s : edge_neighbours) {
+      if (store_.face(s).alive) markDirty(s);
+    }
     for (const Change& change : changed) {
       const Projection& p = change.projection;
       const Eigen::Vector2d r(reach, reach);
@@ -245,7 +288,7 @@ class TraversabilityMap::Impl {
         const Eigen::Vector3d& c = store_.centroid(s);
         const double distance = distanceToTriangle(c.head<2>(), p);
         if (distance <= reach &&
-            computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, change.steiner, distance)) {
+            computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) {
           markDirty(s);
         }
       });
@@ -307,6 +350,8 @@ class TraversabilityMap::Impl {
     for (Slot s : slots) {
       const StoredFace& f = store_.face(s);
       out.mesh.faces.push_back({index.at(f.vertices[0]), index.at(f.vertices[1]), index.at(f.vertices[2])});
+      out.mesh.face_rays.push_back(f.rays);
+      out.mesh.face_front_crossings.push_back(f.front_crossings);
       out.layers.push_back(f.layers);
       out.face_keys.push_back(f.key);
     }
@@ -454,7 +499,7 @@ class TraversabilityMap::Impl {
   // Scratch of apply(), kept to reuse their memory.
   std::vector<Eigen::Vector3d> change_points_;
   std::vector<Change> changed_;
-  std::vector<Slot> reobserved_, added_, dirty_, region_;
+  std::vector<Slot> reobserved_, reevidenced_, added_, dirty_, region_, edge_neighbours_, scratch_neighbours_;
   std::unordered_set<mesher::FaceKey> unchanged_;
   std::vector<QueueEntry> queue_storage_;
 };
@@ -507,7 +552,10 @@ LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, 
   faces.reserve(mesh.faces.size());
   std::vector<mesher::FaceKey> keys;
   keys.reserve(mesh.faces.size());
-  for (const auto& tri : mesh.faces) {
+  const bool observed =
+      mesh.face_rays.size() == mesh.faces.size() && mesh.face_front_crossings.size() == mesh.faces.size();
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const auto& tri = mesh.faces[f];
     mesher::SurfaceFace face;
     bool steiner = false;
     for (int i = 0; i < 3; ++i) {
@@ -518,7 +566,18 @@ LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, 
     }
     face.key = mesher::FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
     face.touches_steiner = steiner;
-    face.rays = steiner ? 0 : rays_if_unknown;
+    if (mesh.is_driven.size() == mesh.vertices.size()) {
+      for (int i = 0; i < 3; ++i) face.driven_vertices += mesh.is_driven[tri[i]] != 0 ? 1 : 0;
+    }
+    if (observed) {
+      // terramesh's own meshes keep the observation counts the mesher reported.
+      face.rays = mesh.face_rays[f];
+      face.front_crossings = mesh.face_front_crossings[f];
+    } else {
+      // Another program's mesh has no ray paths: its measured faces count as observed in front.
+      face.rays = steiner ? 0 : rays_if_unknown;
+      face.front_crossings = face.rays;
+    }
     keys.push_back(face.key);
     faces.push_back(face);
   }

@@ -15,6 +15,8 @@ export const UNKNOWN_RGB = [128, 128, 128];
 export const UNKNOWN_HATCH_RGB = [225, 225, 225];
 export const HATCH_PERIOD_PX = 6;
 export const LETHAL_RGB = [220, 20, 30];
+/** Uncertain faces (measured, the evidence cannot decide): magenta, a hue no ramp and not lethal red has. */
+export const UNCERTAIN_RGB = [235, 60, 190];
 export const STEINER_TINT = 0.55;
 
 export const RAMPS = { viridis: VIRIDIS, cost: COST };

@@ -1,5 +1,6 @@
-// Per-face colours of a layer: value ramp, then classes (unknown grey and hatched, lethal red) on top.
-import { LETHAL_RGB, RAMPS, STEINER_TINT, UNKNOWN_RGB, rampColour } from './colormaps.js';
+// Per-face colours of a layer: value ramp, then classes (unknown grey and hatched, lethal red,
+// uncertain magenta) on top.
+import { LETHAL_RGB, RAMPS, STEINER_TINT, UNCERTAIN_RGB, UNKNOWN_RGB, rampColour } from './colormaps.js';
 
 /** Known layers of traversability.ply (docs/traversability.md); others get an automatic range. */
 const KNOWN = {
@@ -12,6 +13,8 @@ const KNOWN = {
   clearance_m: { label: 'clearance (m; inf = nothing above)' },
   lethal_distance_m: { label: 'distance to lethal (m)' },
   rays: { label: 'observedness (rays through the face)' },
+  evidence: { label: 'evidence (0 measured, 1 driven, 2 interpolated)', range: [0, 2] },
+  height_uncertainty_m: { label: 'height uncertainty bound (m)' },
   height: { label: 'height along up (map units)' },
 };
 
@@ -65,7 +68,8 @@ function normalised(v) {
  * 255 on unknown faces, which the scene's shader stripes) for layer `name` and returns the legend
  * description. On every layer, height included, when the mesh has the class flags
  * (traversability.ply): unknown faces (flag, or NaN value of a traversability layer) are grey and
- * hatched, lethal faces red. Steiner faces are darkened. Flat shading is baked in.
+ * hatched, lethal faces red, uncertain faces magenta. Steiner faces are darkened. Flat shading is
+ * baked in.
  */
 export function colourFaces(mesh, name, up, colours, hatch) {
   const known = KNOWN[name] || {};
@@ -74,19 +78,21 @@ export function colourFaces(mesh, name, up, colours, hatch) {
   const ramp = RAMPS[known.ramp || 'viridis'];
   const unknown = mesh.flags.unknown || null;
   const lethal = mesh.flags.lethal || null;
+  const uncertain = mesh.flags.uncertain || null;
   const classes = Boolean(unknown || lethal);
   const knownValues = unknown ? values.filter((_, f) => !unknown[f]) : values;
   const [min, max] = known.range || autoRange(knownValues);
   const span = max - min;
   const light = lightDirection(up);
   const n = mesh.normals;
-  let unknownFaces = 0, lethalFaces = 0;
+  let unknownFaces = 0, lethalFaces = 0, uncertainFaces = 0;
   for (let f = 0; f < mesh.faces; ++f) {
     const v = values[f];
     let rgb;
     const isUnknown = Boolean((unknown && unknown[f]) || (classes && !isHeight && Number.isNaN(v)));
     if (isUnknown) { rgb = UNKNOWN_RGB; ++unknownFaces; }
     else if (lethal && lethal[f]) { rgb = LETHAL_RGB; ++lethalFaces; }
+    else if (uncertain && uncertain[f]) { rgb = UNCERTAIN_RGB; ++uncertainFaces; }
     else rgb = rampColour(ramp, v === Infinity ? 1 : (v - min) / span);
     // Flat Lambert shading of a two-sided surface, baked in (the material is unlit).
     const lambert = Math.abs(n[3 * f] * light[0] + n[3 * f + 1] * light[1] + n[3 * f + 2] * light[2]);
@@ -98,5 +104,5 @@ export function colourFaces(mesh, name, up, colours, hatch) {
       if (hatch) hatch[3 * f + c] = isUnknown ? 255 : 0;
     }
   }
-  return { title: layerLabel(name), ramp, min, max, classes, unknownFaces, lethalFaces };
+  return { title: layerLabel(name), ramp, min, max, classes, unknownFaces, lethalFaces, uncertainFaces };
 }

@@ -121,6 +121,7 @@ async function main() {
     info.shownLayer = name;
     info.unknownFaces = legend.unknownFaces;
     info.lethalFaces = legend.lethalFaces;
+    info.uncertainFaces = legend.uncertainFaces;
     scene.coloursChanged();
   }
 

@@ -2,7 +2,7 @@
 // large map never blocks the page. Messages: {id, url, kind: 'mesh'|'points', origin?}.
 import { parsePly } from './ply.js';
 
-const FLAG_PROPERTIES = new Set(['steiner', 'lethal', 'unknown']);
+const FLAG_PROPERTIES = new Set(['steiner', 'lethal', 'unknown', 'uncertain']);
 
 function centreOf(x, y, z) {
   const lo = [Infinity, Infinity, Infinity];

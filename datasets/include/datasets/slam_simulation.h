@@ -85,6 +85,13 @@ SlamSimulationConfig kittiLikeSlamConfig();
 /// The dense stress variant: nine times the features, ~4,500 rays per keyframe.
 SlamSimulationConfig kittiDenseSlamConfig();
 
+/// The hazards scene's default: sparse SLAM as the hazards it holds are missed in practice, about
+/// 1-3 points per m^2 of the ground the camera sees (measured with measureGroundDensity, see
+/// docs/synthetic_data.md), 3 cm noise along and across the ray at every depth (no growth with
+/// depth), a keyframe every 2 m; features on surfaces seen up to 85 degrees from their normal,
+/// as a ground robot's low camera sees the ground at grazing angles.
+SlamSimulationConfig hazardsSlamConfig();
+
 /// Ground truth of one simulated map point; its id is its index in SimulatedSlam::points.
 struct SimulatedPoint {
   /// True position on the ground-truth surface (also for outliers: where the feature really is).

@@ -3,6 +3,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "datasets/kitti_trajectory.h"
 #include "datasets/labeled_mesh.h"
@@ -11,6 +13,40 @@ namespace terramesh::datasets {
 
 /// Frames of every synthetic trajectory are this far apart in time (KITTI's camera rate).
 inline constexpr double kSyntheticFrameRateHz = 10.0;
+
+/// What a hazard of the hazards scene is.
+enum class HazardKind : std::uint8_t {
+  kSlab = 0,       ///< a raised platform with vertical edges, no way up
+  kPlateau = 1,    ///< a raised plateau with vertical edges and one ramp up onto it
+  kPit = 2,        ///< a lowered area with vertical edges (a negative obstacle)
+  kThinWall = 3,   ///< a thin upright wall with two free ends
+  kRock = 4,       ///< a small rock sitting on the ground
+};
+
+/// Lower-case name of a kind ("slab", "plateau", "pit", "thin_wall", "rock").
+std::string_view toString(HazardKind kind);
+
+/// One hazard of a generated scene, with a start and a goal placed to test it (z-up W, metres).
+/// Whether a robot can get from start to goal is for the per-robot truth to decide.
+struct SceneHazard {
+  /// Unique in its scene: "slab_1", "plateau", "pit", "wall_1", "rock_3".
+  std::string name;
+  HazardKind kind = HazardKind::kSlab;
+  /// Centre of its footprint at ground level (z = 0).
+  Eigen::Vector3d centre_W = Eigen::Vector3d::Zero();
+  /// Footprint along x and y (axis-aligned; a rock: its diameter at ground level, both).
+  Eigen::Vector2d size_m = Eigen::Vector2d::Zero();
+  /// Height of its top above the ground; negative for a pit (minus its depth).
+  double height_m = 0.0;
+  /// Plateau only: the ramp's slope, its footprint along x (the ramp rises along +x up to the
+  /// plateau's -x edge) and its width along y.
+  double ramp_slope_deg = 0.0;
+  double ramp_length_m = 0.0;
+  double ramp_width_m = 0.0;
+  /// Where a robot stands to cross it (on the ground, on its top or on the pit's floor).
+  Eigen::Vector3d start_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d goal_W = Eigen::Vector3d::Zero();
+};
 
 /// A synthetic world: the labelled ground-truth surface and the camera's true trajectory.
 ///
@@ -25,6 +61,8 @@ struct SyntheticScene {
   Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
   /// One line saying what W is.
   std::string frame_description;
+  /// The hazards placed on purpose (hazards scene; empty for the others).
+  std::vector<SceneHazard> hazards;
 };
 
 /// A street: a road with camber and grades, 0.15 m curbs, sidewalks, a grass verge, building
@@ -123,5 +161,31 @@ inline constexpr double kGarageRampLengthM = 20.0;
 
 /// Builds the garage. @throw std::invalid_argument for a bad config.
 SyntheticScene buildGarageScene(const GarageSceneConfig& config);
+
+/// The cases sparse SLAM maps get wrong, on a flat ground plane (z = 0; z-up W, origin at a
+/// corner of the ground): two raised slabs (edges 0.3-0.5 m), a plateau with a ramp just under
+/// 20 degrees up onto it, a pit 0.3-0.6 m deep, two thin walls with free ends and small rocks
+/// (0.3-0.9 m). The camera drives a rounded rectangular loop past all of them. The seed jitters
+/// every hazard's position and size within those ranges; SyntheticScene::hazards lists them.
+struct HazardsSceneConfig {
+  std::uint64_t seed = 1;
+  /// Scales the number of rocks (1: kHazardsRockCount of them; 0: none; at most 2).
+  double object_density = 1.0;
+  /// Camera height above the ground (a ground robot's camera mast).
+  double camera_height_m = 1.4;
+  double speed_m_per_s = 2.0;
+
+  /// @throw std::invalid_argument listing every out-of-range field.
+  void validate() const;
+};
+
+/// Extent of the hazards scene's ground along x and y.
+inline constexpr double kHazardsLengthM = 72.0;
+inline constexpr double kHazardsWidthM = 36.0;
+/// Rocks at object_density 1.
+inline constexpr int kHazardsRockCount = 6;
+
+/// Builds the hazards scene. @throw std::invalid_argument for a bad config.
+SyntheticScene buildHazardsScene(const HazardsSceneConfig& config);
 
 }  // namespace terramesh::datasets

@@ -353,6 +353,18 @@ SlamSimulationConfig kittiDenseSlamConfig() {
   return config;
 }
 
+SlamSimulationConfig hazardsSlamConfig() {
+  SlamSimulationConfig config;
+  config.keyframe_spacing_m = 2.0;
+  config.new_points_per_keyframe = 60;
+  config.max_range_m = 30.0;
+  config.max_incidence_deg = 85.0;
+  config.noise_std_m = 0.03;
+  config.depth_noise_per_m = 0.0;
+  config.pixel_noise_px = 0.5;
+  return config;
+}
+
 std::vector<std::size_t> selectKeyframeFrames(const PoseList& frames_T_W_C, const SlamSimulationConfig& config) {
   std::vector<std::size_t> frames;
   if (frames_T_W_C.empty()) return frames;

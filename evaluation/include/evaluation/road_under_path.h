@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <vector>
 
 #include "evaluation/traversability_score.h"
@@ -33,6 +34,11 @@ struct RoadUnderPath {
   double free_fraction = 0;
   double lethal_fraction = 0;
   double unknown_fraction = 0;
+  double uncertain_fraction = 0;
+  /// With a truth surface: the distance (metres) from the free pieces under the path to it,
+  /// median and 90th percentile, area-weighted; NaN without a truth or with no free piece.
+  double free_truth_distance_median_m = std::numeric_limits<double>::quiet_NaN();
+  double free_truth_distance_p90_m = std::numeric_limits<double>::quiet_NaN();
   /// Length of the path, in metres.
   double path_length_m = 0;
 };
@@ -45,10 +51,12 @@ Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rot
 /// Classes of the map surface under the polyline `path_W` (camera centres in driving order, in
 /// the map's units and frame): pieces whose centroid is within lateral_m horizontally of the
 /// polyline and between camera_height_m -/+ height_tolerance_m below the nearest path point.
-/// Distances are converted to metres with map.metres_per_unit; "up" is `up_W`.
+/// Distances are converted to metres with map.metres_per_unit; "up" is `up_W`. With `truth_m` (a
+/// surface in metres, in the map's frame), how far the free pieces lie from it.
 /// @throw std::invalid_argument if the config does not validate, the path has fewer than 2
 ///        points, `up_W` is zero, or the map has not one layer per face.
 RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
-                            const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config);
+                            const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config,
+                            const mesher::TriangleMesh* truth_m = nullptr);
 
 }  // namespace terramesh::evaluation

@@ -16,7 +16,8 @@ struct ClassAreas {
   double free_m2 = 0;
   double lethal_m2 = 0;
   double unknown_m2 = 0;
-  double total() const { return free_m2 + lethal_m2 + unknown_m2; }
+  double uncertain_m2 = 0;
+  double total() const { return free_m2 + lethal_m2 + unknown_m2 + uncertain_m2; }
 };
 
 /// How a map is scored against the ground truth.
@@ -33,8 +34,9 @@ struct ScoreConfig {
 /// Area-weighted agreement of a map's "free" with the ground truth's "traversable".
 ///
 /// Every piece of a map face whose centroid lies within max_distance_m of the truth is scored;
-/// its truth is that of the nearest ground-truth face. Known pieces only enter precision and
-/// recall: free = predicted traversable, lethal = predicted not.
+/// its truth is that of the nearest ground-truth face. Free and lethal pieces only enter precision
+/// and recall: free = predicted traversable, lethal = predicted not; unknown and uncertain pieces
+/// predict neither.
 struct TraversabilityScore {
   double true_positive_m2 = 0;   ///< free, truth traversable
   double false_positive_m2 = 0;  ///< free, truth not traversable
@@ -49,13 +51,19 @@ struct TraversabilityScore {
   double unknown_m2 = 0;
   /// unknown_m2 / scored_m2 (NaN if nothing is scored).
   double unknown_fraction = 0;
+  /// Map area within max_distance_m that is uncertain (measured, the evidence cannot decide).
+  double uncertain_m2 = 0;
+  double uncertain_fraction = 0;
   /// Map area farther than max_distance_m from the truth (not scored).
   double ignored_far_m2 = 0;
   /// Area of the truth's traversable faces.
   double truth_traversable_m2 = 0;
   /// Fraction of the truth's traversable area (judged per refined face, at its centroid) with a
-  /// known map face within max_distance_m; NaN if the truth has no traversable area.
+  /// known map face (free, lethal or uncertain: a measured surface, judged) within
+  /// max_distance_m; NaN if the truth has no traversable area.
   double coverage = 0;
+  /// ... with a free map face within max_distance_m.
+  double free_coverage = 0;
   /// Scored map area by the label of the nearest ground-truth face.
   std::array<ClassAreas, datasets::kSurfaceLabelCount> by_label{};
   /// ... split by the truth's answer: [label][0] not traversable, [label][1] traversable.

@@ -2,17 +2,33 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <vector>
 
 #include "mesher/ids.h"
 
 namespace terramesh::mesher {
 
+/// Where a point comes from.
+enum class PointKind : std::uint8_t {
+  /// A map point of the SLAM system: inserted once `MesherConfig::min_views` keyframes in range
+  /// see it.
+  kSlam = 0,
+  /// A virtual sample of the ground the robot drove on (its contact patch under a keyframe,
+  /// traversability/trajectory_evidence.h). Inserted with a single view (exempt from min_views);
+  /// otherwise an ordinary point: its rays carve free space, a re-sent keyframe moves it, and it
+  /// goes when no keyframe observes it any more. Its vertex key is an ordinary point key.
+  kDrivenGround = 1,
+};
+
 /// One point seen by a keyframe, with the SLAM system's current estimate of its position.
 struct PointObservation {
   PointId point;
   /// Current position of the point in the world frame W, in map units.
   Eigen::Vector3d position_W = Eigen::Vector3d::Zero();
+  /// The point's kind; a point keeps the kind it was first observed with (a later observation
+  /// with another kind is refused).
+  PointKind kind = PointKind::kSlam;
 };
 
 /// A SLAM keyframe: a camera pose and the points it observes.

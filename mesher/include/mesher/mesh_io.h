@@ -7,7 +7,8 @@
 namespace terramesh::mesher {
 
 /// Writes a binary little-endian PLY: vertex x y z (float64) and `steiner` (uchar, 1 for Steiner
-/// vertices) and face vertex_indices (uchar count, uint32 indices). Written atomically.
+/// vertices), then `driven` (uchar, 1 for driven-ground samples) only if some vertex is driven,
+/// and face vertex_indices (uchar count, uint32 indices). Written atomically.
 /// @throw std::runtime_error if the file cannot be written.
 void writePly(const std::filesystem::path& path, const TriangleMesh& mesh);
 
@@ -16,7 +17,7 @@ void writePly(const std::filesystem::path& path, const TriangleMesh& mesh);
 void writeObj(const std::filesystem::path& path, const TriangleMesh& mesh);
 
 /// Reads a triangle mesh from PLY (ascii or binary, either endianness), OBJ or OFF, chosen by
-/// extension (.ply/.obj/.off). Reads a `steiner` vertex property when present.
+/// extension (.ply/.obj/.off). Reads the `steiner` and `driven` vertex properties when present.
 /// @throw terramesh::InputError naming the file and the offending line or element.
 TriangleMesh readMesh(const std::filesystem::path& path);
 

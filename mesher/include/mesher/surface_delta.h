@@ -62,8 +62,15 @@ struct SurfaceFace {
   /// How well it was observed: visibility rays ending on its vertices plus rays crossing the
   /// free cell in front of it (the O-cell the face bounds), counted when the face was reported.
   std::uint32_t rays = 0;
+  /// Rays crossing the free cell in front of the face (the O-cell it bounds), part of `rays`:
+  /// whether any observation passed through the free space over the face's interior, counted
+  /// when the face was reported.
+  std::uint32_t front_crossings = 0;
   /// True if a vertex is a Steiner vertex (the face closes the map, it was not measured).
   bool touches_steiner = false;
+  /// How many of its vertices (0-3) are driven-ground samples (PointKind::kDrivenGround): ground
+  /// the robot's own trajectory put there.
+  std::uint8_t driven_vertices = 0;
 };
 
 /// What changed on the surface between two revisions of a Mesher.

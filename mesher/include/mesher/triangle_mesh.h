@@ -17,9 +17,19 @@ struct TriangleMesh {
   /// One flag per vertex: 1 for a Steiner (grid) vertex, 0 for a measured SLAM point.
   /// Either empty (unknown) or the same size as `vertices`.
   std::vector<std::uint8_t> is_steiner;
+  /// One flag per vertex: 1 for a driven-ground sample (mesher::PointKind::kDrivenGround: ground
+  /// under the robot's own trajectory), 0 otherwise. Either empty (unknown or none, e.g. a mesh
+  /// read from a file without the `driven` property) or the same size as `vertices`.
+  std::vector<std::uint8_t> is_driven;
   /// Stable identity of each vertex (SLAM point id or Steiner lattice node). Either empty
   /// (unknown, e.g. a mesh read from a file) or the same size as `vertices`.
   std::vector<VertexKey> vertex_keys;
+  /// Per face, how it was observed (SurfaceFace::rays and SurfaceFace::front_crossings when the
+  /// mesh was extracted). Either empty (unknown, e.g. a mesh from another program) or the same
+  /// size as `faces`; the PLY writer and reader keep them (face properties `rays`,
+  /// `front_crossings`).
+  std::vector<std::uint32_t> face_rays;
+  std::vector<std::uint32_t> face_front_crossings;
 
   std::size_t vertexCount() const { return vertices.size(); }
   std::size_t faceCount() const { return faces.size(); }
@@ -49,8 +59,8 @@ struct MeshTopology {
 MeshTopology analyzeTopology(const TriangleMesh& mesh);
 
 /// Returns the open surface made of the faces that touch no Steiner vertex, with unreferenced
-/// vertices removed. Requires `mesh.is_steiner` to be filled; `vertex_keys` is carried along when
-/// it has one key per vertex.
+/// vertices removed. Requires `mesh.is_steiner` to be filled; `vertex_keys` and `is_driven` are
+/// carried along when they have one entry per vertex.
 /// @throw std::invalid_argument if `is_steiner` does not match the vertex count.
 TriangleMesh dropSteinerFaces(const TriangleMesh& mesh);
 

@@ -30,6 +30,10 @@ struct WalkabilityConfig {
   /// 1 + cost_weight * unknown_cost. 1 = as dear as the dearest free face (Nav2's NavFn gives an
   /// unknown cell COST_OBS - 1, at least the cost of every free cell).
   double unknown_cost = 1.0;
+  /// Uncertain faces (measured, but the evidence cannot decide: FaceClass::kUncertain) are walkable
+  /// too, at their own cost (the profile's evidence.uncertain_cost), under the same rules as free
+  /// faces. Off by default: a path there may meet a step or an obstacle the map could not exclude.
+  bool allow_uncertain = false;
   /// @throw std::invalid_argument listing every out-of-range field.
   void validate() const;
 };

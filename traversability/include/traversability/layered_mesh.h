@@ -16,6 +16,18 @@ enum class FaceClass : std::uint8_t {
   kFree = 0,     ///< known and drivable, with a cost in [0, 1]
   kLethal = 1,   ///< known and not drivable
   kUnknown = 2,  ///< not measured (touches a Steiner vertex) or seen by too few rays
+  /// Measured, but the evidence cannot decide: the robot fits on the surface as reconstructed,
+  /// not in the worst case within the surface's height uncertainty (a possible step, unsupported
+  /// footprint, a possible obstacle or the possible extension of a sparsely measured one); or
+  /// only interpolated geometry makes it lethal. Never silently free, never lethal by invention.
+  kUncertain = 3,
+};
+
+/// Where a face's geometry comes from. The numeric values are written to files: never renumber.
+enum class Evidence : std::uint8_t {
+  kMeasured = 0,      ///< SLAM points, with rays through the free space in front of the face
+  kDriven = 1,        ///< every vertex a driven-ground sample: under the robot's own trajectory
+  kInterpolated = 2,  ///< closing (Steiner) geometry, or a span no ray observed
 };
 
 /// Every layer of one face, in metres and degrees (map units times metres_per_unit).
@@ -38,8 +50,14 @@ struct FaceLayers {
   float lethal_distance_m = std::numeric_limits<float>::infinity();
   std::uint32_t rays = 0;  ///< observation count (see mesher::SurfaceFace::rays)
   bool steiner = false;    ///< touches a Steiner vertex
+  Evidence evidence = Evidence::kInterpolated;
+  /// Bound on how far the true surface may lie from the face, along up (metres): the points'
+  /// noise plus the relief an unobserved span can hide (docs/traversability.md "Evidence");
+  /// +inf for closing geometry.
+  float height_uncertainty_m = std::numeric_limits<float>::infinity();
   FaceClass face_class = FaceClass::kUnknown;
-  /// Combined cost in [0, 1] for free faces; 1 for lethal; NaN for unknown.
+  /// Combined cost in [0, 1] for free faces; 1 for lethal; the profile's uncertain cost for
+  /// uncertain faces; NaN for unknown.
   float cost = std::numeric_limits<float>::quiet_NaN();
 };
 
@@ -59,7 +77,8 @@ struct LayeredMesh {
   /// Per-vertex cost: the max over the vertex's known faces (NaN if all are unknown; 1 if any is
   /// lethal).
   std::vector<float> vertexCost() const;
-  /// Per-vertex class: lethal if any face is lethal, else free if any face is free, else unknown.
+  /// Per-vertex class: lethal if any face is lethal, else uncertain if any face is uncertain, else
+  /// free if any face is free, else unknown.
   std::vector<FaceClass> vertexClass() const;
 };
 

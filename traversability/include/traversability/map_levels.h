@@ -54,7 +54,8 @@ struct LevelConfig {
   void validate() const;
 };
 
-/// Faces split into walkable levels, each single-valued over the plan (a 2.5D map).
+/// Faces split into walkable levels, each single-valued over the plan (a 2.5D map). Walkable: free
+/// or uncertain (measured surface a robot may stand on) and facing up.
 struct Levels {
   static constexpr std::int32_t kNone = -1;
   /// Per face: its level, or kNone.

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -19,6 +20,26 @@ struct LayerWeights {
   double roughness = 1.0;
   double contact = 1.0;
   double inflation = 1.0;
+};
+
+/// How the layers weigh the evidence behind each face (docs/traversability.md, "Evidence"). A face's
+/// height uncertainty bound is `point_noise_m` plus its longest horizontal edge times the relief
+/// per metre (observed: rays crossed the free space in front of it; unobserved: none did);
+/// driven faces have `driven_uncertainty_m`. Lengths in metres.
+struct EvidenceModel {
+  /// Height noise (1 sigma) of the SLAM points.
+  double point_noise_m = 0.03;
+  /// Relief a span can hide between its vertices, per metre of span, with rays over it / without.
+  double relief_per_m_observed = 0.01;
+  double relief_per_m_unobserved = 0.05;
+  /// Height uncertainty of driven ground (the sensor mounting's).
+  double driven_uncertainty_m = 0.05;
+  /// A measured obstacle may extend beyond its faces by this fraction of their longest edge (a
+  /// wall's free end, a rock seen from one side), up to `max_obstacle_extension_m`.
+  double obstacle_extension = 0.5;
+  double max_obstacle_extension_m = 0.5;
+  /// Cost of an uncertain face, for planners allowed to enter one, in [0, 1].
+  double uncertain_cost = 0.9;
 };
 
 /// What a robot can drive on. Lengths in metres, angles in degrees. Loaded from YAML
@@ -61,9 +82,24 @@ struct RobotProfile {
 
   /// Faces touching a Steiner vertex, or seen by fewer rays, are unknown.
   int min_rays = 3;
+  /// The evidence model behind the uncertain class (YAML section `evidence`).
+  EvidenceModel evidence;
 
   /// Gravity direction (pointing down) in the map frame; nullopt = estimate from the camera poses.
   std::optional<Eigen::Vector3d> gravity_W;
+
+  // Sensor mounting (trajectory evidence, trajectory_evidence.h). A property of the sensor rig,
+  // not of the robot type: unset unless the rig is known, and then estimated from the data.
+  /// Height of the sensor (the keyframes' camera centre) above the ground contact plane, metres.
+  std::optional<double> sensor_height_m;
+  /// Full sensor-to-base transform: the sensor's pose in the base frame B (origin on the ground
+  /// contact plane at the footprint's centre, x forward, y left, z up; ROS base_footprint), as a
+  /// ROS base_link -> camera transform gives it; translation in metres. Its translation's z is
+  /// the sensor height (`sensor_height_m`, if also given, must equal it). Without it the contact
+  /// patch is centred under the sensor, heading along the sensor's forward axis.
+  std::optional<Eigen::Isometry3d> T_B_S;
+  /// The mounting's sensor height: `sensor_height_m`, else T_B_S's z, else nullopt.
+  std::optional<double> mountedSensorHeightM() const;
 
   /// Radius of the smallest disc around the footprint's centre that contains it.
   double footprintCircumradiusM() const;
@@ -82,7 +118,13 @@ struct RobotProfile {
 ///   inscribed_radius_m [0, 100], inflation_radius_m [inscribed_radius_m, 100],
 ///   cost_scaling_factor (0, 1000], weights: {slope, step, roughness, contact, inflation} each
 ///   [0, 1000] not all 0, min_rays: integer [0, 1e6],
-///   gravity: auto | [x, y, z] (pointing down, map frame; auto = estimateUpFromCameras).
+///   gravity: auto | [x, y, z] (pointing down, map frame; auto = estimateUpFromCameras),
+///   sensor_height_m (0, 20] (sensor above the ground contact plane; unset = estimate),
+///   sensor_pose_in_base: {translation_m: [x, y, z], rotation_xyzw: [x, y, z, w]} (T_B_S; z in
+///   (0, 20], a non-zero quaternion; sensor_height_m, if given too, equal to z),
+///   evidence: {point_noise_m [0, 10], relief_per_m_observed [0, 10], relief_per_m_unobserved
+///   [0, 10], driven_uncertainty_m [0, 10], obstacle_extension [0, 10], max_obstacle_extension_m
+///   [0, 100], uncertain_cost [0, 1]}.
 /// The shipped profiles (traversability/robots/*.yaml) repeat it in their header comment.
 /// @throw terramesh::InputError naming the file, the key (and line), the value and the allowed
 ///        range or type.

@@ -80,8 +80,10 @@ class TraversabilityMap {
   LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces);
 
   /// Layers of a finished mesh (e.g. read from PLY). Faces touching a vertex flagged in
-  /// `mesh.is_steiner` are unmeasured; without the flags every face counts as measured and is
-  /// given `rays_if_unknown` rays.
+  /// `mesh.is_steiner` are unmeasured; without the flags every face counts as measured. Faces take
+  /// the mesh's observation counts (`face_rays`, `face_front_crossings`: terramesh's own meshes);
+  /// without them every other face is given `rays_if_unknown` rays, all counted as observed in
+  /// front.
   static LayeredMesh computeForMesh(const mesher::TriangleMesh& mesh, const RobotProfile& profile,
                                     const MapFrame& frame, std::uint32_t rays_if_unknown);
 

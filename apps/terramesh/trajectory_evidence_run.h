@@ -1,0 +1,60 @@
+#pragma once
+
+// Trajectory evidence during `terramesh mesh --robot R` (on by default; traversability/
+// trajectory_evidence.h): decides once from the whole stream whether and at which sensor height
+// the trajectory was driven, then appends the driven-ground samples to every keyframe event and
+// removes a keyframe's samples with it.
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "cli_args.h"
+#include "datasets/slam_stream.h"
+#include "mesher/mesher.h"
+#include "traversability/trajectory_evidence.h"
+#include "traversability_session.h"
+
+namespace terramesh::cli {
+
+/// --no-trajectory-evidence and --sensor-height-m.
+struct TrajectoryEvidenceOptions {
+  bool off = false;
+  std::optional<double> sensor_height_m;
+};
+/// Adds the options to `app`, filling `options`.
+void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& options);
+
+class TrajectoryEvidenceRun {
+ public:
+  /// Off without a session (no --robot) or with --no-trajectory-evidence; otherwise estimates the
+  /// sensor height from the stream's latest keyframe poses and point estimates and decides.
+  /// @throw UsageError for --sensor-height-m without --robot or out of (0, 20].
+  static TrajectoryEvidenceRun fromOptions(const TrajectoryEvidenceOptions& options, const datasets::SlamStream& stream,
+                                           const TraversabilitySession* session);
+
+  /// Applies one stream event to the mesher, with the evidence when on (exactly
+  /// datasets::applyEvent when off). A keyframe removal also removes its samples (one stats sum).
+  /// @throw std::invalid_argument if a SLAM point id uses the range reserved for the samples.
+  mesher::UpdateStats apply(mesher::Mesher& mesher, const datasets::StreamEvent& event);
+  /// Brings the keyframe poses up to event `events` without meshing (for --resume).
+  void replay(const datasets::SlamStream& stream, std::size_t events);
+
+  bool enabled() const { return evidence_.has_value(); }
+  /// What was inferred, one line (empty when off by option or without --robot).
+  const std::string& summary() const { return summary_; }
+  /// SLAM points dropped so far because the robot drove through them (outliers).
+  std::size_t contradictedPoints() const { return evidence_ ? evidence_->contradictedCount() : 0; }
+  /// A disagreement between a given height and the data, if any.
+  const std::optional<std::string>& warning() const { return warning_; }
+  /// The settings that decide the samples ("off" or the height and layout): a resumed run must
+  /// have the same.
+  std::string settings() const;
+
+ private:
+  std::optional<traversability::TrajectoryEvidence> evidence_;
+  double sensor_height_m_ = 0;
+  std::string summary_;
+  std::optional<std::string> warning_;
+};
+
+}  // namespace terramesh::cli

@@ -1,0 +1,328 @@
+// The evidence behind each face and the uncertain class: what sparse maps get wrong (a slab edge
+// interpolated into a ramp, an unobserved wall, the free end of a sparsely measured wall, a
+// footprint over unknown ground) is never called free, and unobserved geometry is never lethal.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+
+#include "test_support/traversability_scenes.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::traversability {
+namespace {
+
+const std::filesystem::path kRobots = std::filesystem::path(TERRAMESH_SOURCE_DIR) / "traversability" / "robots";
+
+RobotProfile smallWheeled() { return loadRobotProfile(kRobots / "small_wheeled.yaml"); }
+
+/// The faces of `mesh` as the mesher reports them: `rays` observations each, `crossings` of them
+/// through the free space in front (0: nobody observed the span), `driven` driven-ground vertices.
+/// Faces whose index satisfies `unobserved` get no crossings.
+std::vector<mesher::SurfaceFace> facesOf(const mesher::TriangleMesh& mesh, std::uint32_t crossings,
+                                         const std::function<bool(std::size_t)>& unobserved = {},
+                                         std::uint8_t driven = 0) {
+  std::vector<mesher::SurfaceFace> faces;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    mesher::SurfaceFace face;
+    bool steiner = false;
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t v = mesh.faces[f][i];
+      steiner = steiner || (!mesh.is_steiner.empty() && mesh.is_steiner[v] != 0);
+      face.vertices[i] = mesher::VertexKey{v, false};
+      face.positions_W[i] = mesh.vertices[v];
+    }
+    face.key = mesher::FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
+    face.touches_steiner = steiner;
+    face.rays = steiner ? 0 : 10;
+    face.front_crossings = steiner || (unobserved && unobserved(f)) ? 0 : crossings;
+    face.driven_vertices = driven;
+    faces.push_back(face);
+  }
+  return faces;
+}
+
+/// The layers of `faces` in the order given (the map's snapshot sorts by key).
+std::vector<FaceLayers> layersOf(const std::vector<mesher::SurfaceFace>& faces, const RobotProfile& profile) {
+  TraversabilityMap map(profile, MapFrame{});
+  map.reset(faces);
+  const LayeredMesh snapshot = map.snapshot();
+  std::map<mesher::FaceKey, FaceLayers> by_key;
+  for (std::size_t f = 0; f < snapshot.layers.size(); ++f) by_key.emplace(snapshot.face_keys[f], snapshot.layers[f]);
+  std::vector<FaceLayers> out;
+  for (const mesher::SurfaceFace& face : faces) out.push_back(by_key.at(face.key));
+  return out;
+}
+
+Eigen::Vector3d centroid(const mesher::TriangleMesh& mesh, std::size_t f) {
+  const auto& t = mesh.faces[f];
+  return (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
+}
+
+TEST(EvidenceTest, EveryFaceCarriesItsEvidenceAndHeightBound) {
+  const RobotProfile profile = smallWheeled();
+  const EvidenceModel& m = profile.evidence;
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.5, [](double, double) { return 0.0; });
+  mesh.is_steiner.assign(mesh.vertices.size(), 0);
+  mesh.is_steiner[0] = 1;  // a corner vertex: the faces around it close the map
+  // Faces with an odd index: no ray crossed the space in front of them.
+  const auto faces = facesOf(mesh, 4, [](std::size_t f) { return f % 2 == 1; });
+  const std::vector<FaceLayers> layers = layersOf(faces, profile);
+  const double span = 0.5 * std::sqrt(2.0);  // the cells' diagonal is each triangle's longest horizontal edge
+  std::size_t steiner = 0;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const FaceLayers& l = layers[f];
+    if (faces[f].touches_steiner) {
+      ++steiner;
+      EXPECT_EQ(l.evidence, Evidence::kInterpolated);
+      EXPECT_TRUE(std::isinf(l.height_uncertainty_m));
+      EXPECT_EQ(l.face_class, FaceClass::kUnknown);
+    } else if (f % 2 == 1) {
+      EXPECT_EQ(l.evidence, Evidence::kInterpolated);
+      EXPECT_NEAR(l.height_uncertainty_m, m.point_noise_m + m.relief_per_m_unobserved * span, 1e-6);
+    } else {
+      EXPECT_EQ(l.evidence, Evidence::kMeasured);
+      EXPECT_NEAR(l.height_uncertainty_m, m.point_noise_m + m.relief_per_m_observed * span, 1e-6);
+    }
+  }
+  EXPECT_GT(steiner, 0u);
+  // Every vertex a driven-ground sample: driven evidence, with the mounting's uncertainty.
+  const std::vector<FaceLayers> driven = layersOf(facesOf(mesh, 0, {}, 3), profile);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (faces[f].touches_steiner) continue;
+    EXPECT_EQ(driven[f].evidence, Evidence::kDriven);
+    EXPECT_FLOAT_EQ(driven[f].height_uncertainty_m, static_cast<float>(m.driven_uncertainty_m));
+  }
+}
+
+TEST(EvidenceTest, SlabEdgeInterpolatedIntoARampIsUncertainNeverFree) {
+  // A 0.40 m slab edge (step limit 0.18 m) at x = 0, seen only at vertices 1.5 m apart: the faces
+  // spanning the edge rise 0.4 m in 1.5 m, a 15 degree "ramp" under the robot's 20 degree limit.
+  const RobotProfile profile = smallWheeled();
+  const auto slab = [](double x, double) { return x > 0.1 ? 0.4 : 0.0; };
+  const mesher::TriangleMesh sparse = test::heightFieldMesh(-6, 6, -6, 6, 1.5, slab);
+  const auto spans_edge = [&](std::size_t f) {
+    const double x = centroid(sparse, f).x();
+    return x > 0 && x < 1.5 && std::abs(centroid(sparse, f).y()) < 4;
+  };
+  // Nobody observed the spans across the edge: a step may hide there.
+  const auto faces = facesOf(sparse, 4, spans_edge);
+  const std::vector<FaceLayers> layers = layersOf(faces, profile);
+  std::size_t judged = 0;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (!spans_edge(f)) continue;
+    ++judged;
+    EXPECT_LT(layers[f].slope_deg, profile.max_slope_deg) << "the interpolated ramp looks drivable";
+    EXPECT_EQ(layers[f].evidence, Evidence::kInterpolated);
+    EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "face " << f;
+    EXPECT_FLOAT_EQ(layers[f].cost, static_cast<float>(profile.evidence.uncertain_cost));
+  }
+  EXPECT_GT(judged, 4u);
+  // With rays over them too: no measured point beyond the spans confirms their plane, so they are
+  // still a possible step.
+  const std::vector<FaceLayers> observed = layersOf(facesOf(sparse, 4), profile);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (!spans_edge(f)) continue;
+    EXPECT_EQ(observed[f].evidence, Evidence::kMeasured);
+    EXPECT_EQ(observed[f].face_class, FaceClass::kUncertain) << "observed face " << f;
+  }
+  // Measured densely, the same edge is a step: lethal where the footprint straddles it.
+  const mesher::TriangleMesh dense = test::heightFieldMesh(-3, 3, -3, 3, 0.1, slab);
+  const std::vector<FaceLayers> measured = layersOf(facesOf(dense, 4), profile);
+  std::size_t lethal = 0;
+  for (std::size_t f = 0; f < dense.faces.size(); ++f) {
+    const Eigen::Vector3d c = centroid(dense, f);
+    if (std::abs(c.x() - 0.05) < 0.1 && std::abs(c.y()) < 2) {
+      EXPECT_NE(measured[f].face_class, FaceClass::kFree) << "at x = " << c.x();
+      lethal += measured[f].face_class == FaceClass::kLethal;
+    }
+  }
+  EXPECT_GT(lethal, 10u);
+}
+
+TEST(EvidenceTest, ARampObservedDenselyStaysFree) {
+  // A 15 degree ramp with points every 0.25 m and rays over it: free, measured.
+  const RobotProfile profile = smallWheeled();
+  const double t = std::tan(15.0 * M_PI / 180.0);
+  const mesher::TriangleMesh ramp = test::heightFieldMesh(-3, 3, -3, 3, 0.25, [t](double x, double) { return t * x; });
+  const std::vector<FaceLayers> layers = layersOf(facesOf(ramp, 4), profile);
+  std::size_t inner = 0;
+  for (std::size_t f = 0; f < ramp.faces.size(); ++f) {
+    if (centroid(ramp, f).head<2>().cwiseAbs().maxCoeff() > 2.0) continue;
+    ++inner;
+    EXPECT_EQ(layers[f].evidence, Evidence::kMeasured);
+    EXPECT_EQ(layers[f].face_class, FaceClass::kFree);
+  }
+  EXPECT_GT(inner, 100u);
+}
+
+TEST(EvidenceTest, ASparseRampConfirmedAlongItsSlopeIsFree) {
+  // The same 15 degree slope as the slab's interpolated ramp, seen at vertices 1.5 m apart over
+  // 9 m: each face rises 0.4 m, more than a step, but the points up and down the slope lie on its
+  // plane, so it is a ramp: free away from the ends.
+  const RobotProfile profile = smallWheeled();
+  const double t = std::tan(15.0 * M_PI / 180.0);
+  const mesher::TriangleMesh ramp = test::heightFieldMesh(-6, 6, -6, 6, 1.5, [t](double x, double) {
+    return t * std::clamp(x, -4.5, 4.5);
+  });
+  const std::vector<FaceLayers> layers = layersOf(facesOf(ramp, 4), profile);
+  std::size_t inner = 0;
+  for (std::size_t f = 0; f < ramp.faces.size(); ++f) {
+    const Eigen::Vector3d c = centroid(ramp, f);
+    if (std::abs(c.x()) > 3.0 || std::abs(c.y()) > 4.0) continue;
+    ++inner;
+    EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+  }
+  EXPECT_GT(inner, 10u);
+}
+
+TEST(EvidenceTest, OnDrivenGroundBridgesAreContradictedButWallsPlacedLaterCount) {
+  // A driven strip (every vertex a driven sample) for |y| < 1 and measured floor beyond. A slanted
+  // face from the strip's edge up to 1 m at y = 2.5 (the mesh bridging the road to a car roof)
+  // passes through the body volume the robot swept: contradicted on the strip. A vertical 1 m wall
+  // across the strip (an obstacle placed later) still blocks the robot there.
+  const RobotProfile profile = smallWheeled();
+  for (const bool wall : {false, true}) {
+    mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+    const std::size_t floor_faces = mesh.faces.size();
+    mesher::TriangleMesh bridge;
+    bridge.vertices = {{-3, 0.2, 0}, {3, 0.2, 0}, {3, 2.5, 1.0}, {-3, 2.5, 1.0}};
+    bridge.faces = {{0, 1, 2}, {0, 2, 3}};
+    test::appendMesh(mesh, bridge);
+    if (wall) test::appendMesh(mesh, test::thinWall(1.0, -1, 1.0, 1, 0, 1.0));
+    std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      bool on_strip = true;
+      for (const auto& p : faces[f].positions_W) on_strip = on_strip && std::abs(p.y()) <= 1.0 + 1e-9;
+      faces[f].driven_vertices = on_strip ? 3 : 0;
+    }
+    faces[floor_faces].driven_vertices = 2;  // the bridge is anchored on the strip's samples
+    faces[floor_faces + 1].driven_vertices = 1;
+    const std::vector<FaceLayers> layers = layersOf(faces, profile);
+    std::size_t strip = 0, blocked = 0;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      if (faces[f].driven_vertices != 3 || c.y() < 0 || c.y() > 0.5 || std::abs(c.x()) > 2.5) continue;
+      EXPECT_EQ(layers[f].evidence, Evidence::kDriven);
+      if (wall && std::abs(c.x() - 1.0) < 0.2) {
+        ++blocked;
+        EXPECT_EQ(layers[f].face_class, FaceClass::kLethal) << "beside the later wall at x " << c.x();
+      } else if (!wall || std::abs(c.x() - 1.0) > profile.footprintCircumradiusM() + 0.55) {  // past its extension
+        ++strip;
+        EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "wall " << wall << " at (" << c.x() << ", " << c.y() << ")";
+      }
+    }
+    EXPECT_GT(strip, 50u);
+    if (wall) EXPECT_GT(blocked, 10u);
+  }
+}
+
+TEST(EvidenceTest, AnUnobservedWallIsUncertainNotLethal) {
+  // A 2 m wall over a floor: measured, it is lethal and so is the floor beside it; with no ray
+  // through the space in front of its faces it is only a possible wall: uncertain, both.
+  const RobotProfile profile = smallWheeled();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  test::appendMesh(mesh, test::thinWall(0, -2, 0, 2, 0, 2.0));
+  const auto wall = [&](std::size_t f) { return f >= floor_faces; };
+  const auto near_floor = [&](std::size_t f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    return !wall(f) && std::abs(c.x()) < 0.2 && std::abs(c.y()) < 1.5;
+  };
+  for (const bool observed : {true, false}) {
+    const std::vector<FaceLayers> layers =
+        layersOf(facesOf(mesh, 4, [&](std::size_t f) { return !observed && wall(f); }), profile);
+    std::size_t walls = 0, floors = 0;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+      const FaceClass want = observed ? FaceClass::kLethal : FaceClass::kUncertain;
+      if (wall(f)) {
+        ++walls;
+        EXPECT_EQ(layers[f].face_class, want) << "wall face, observed " << observed;
+      } else if (near_floor(f)) {
+        ++floors;
+        EXPECT_EQ(layers[f].face_class, want) << "floor beside the wall, observed " << observed;
+      }
+    }
+    EXPECT_EQ(walls, 4u);
+    EXPECT_GT(floors, 20u);
+  }
+}
+
+/// The class of the floor faces whose centroid lies within 0.025 m of (x, y) (each axis).
+std::vector<FaceClass> floorClassesAt(const mesher::TriangleMesh& mesh, std::size_t floor_faces,
+                                      const std::vector<FaceLayers>& layers, double x, double y) {
+  std::vector<FaceClass> out;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (std::abs(c.x() - x) < 0.025 && std::abs(c.y() - y) < 0.025) out.push_back(layers[f].face_class);
+  }
+  return out;
+}
+
+TEST(EvidenceTest, TheFreeEndOfASparselyMeasuredWallKeepsTheFootprintClear) {
+  // A measured 1.5 m wall along x = 0 for y < 0 ending at y = 0. As two triangles (four points:
+  // sparse) it may extend up to max_obstacle_extension_m beyond its end: the floor there is
+  // uncertain for a robot that would reach it, free beyond. Measured as many short triangles
+  // (0.1 m apart), the margin is small: free right beyond the footprint.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const double cap = profile.evidence.max_obstacle_extension_m;
+  for (const bool sparse : {true, false}) {
+    mesher::TriangleMesh mesh = test::heightFieldMesh(-4, 4, -6, 4, 0.1, [](double, double) { return 0.0; });
+    const std::size_t floor_faces = mesh.faces.size();
+    if (sparse) {
+      test::appendMesh(mesh, test::thinWall(0, -5, 0, 0, 0, 1.5));
+    } else {
+      for (double y = -5; y < -1e-9; y += 0.1) test::appendMesh(mesh, test::thinWall(0, y, 0, y + 0.1, 0, 1.5));
+    }
+    const std::vector<FaceLayers> layers = layersOf(facesOf(mesh, 4), profile);
+    ASSERT_GT(cap, 0.2);
+    const double margin = sparse ? cap : profile.evidence.obstacle_extension * 0.1;
+    // Beyond the free end, on the wall's line: within the footprint of the end it collides.
+    const std::vector<FaceClass> at_end = floorClassesAt(mesh, floor_faces, layers, 0.05, 0.5 * r);
+    EXPECT_FALSE(at_end.empty());
+    for (FaceClass c : at_end) EXPECT_EQ(c, FaceClass::kLethal) << "sparse " << sparse;
+    // Where only the sparse wall's possible extension reaches.
+    const double between = r + 0.1 + 0.5 * (cap - 0.1);
+    const std::vector<FaceClass> middle = floorClassesAt(mesh, floor_faces, layers, 0.05, between);
+    EXPECT_FALSE(middle.empty());
+    for (FaceClass c : middle) {
+      EXPECT_EQ(c, sparse ? FaceClass::kUncertain : FaceClass::kFree) << "sparse " << sparse << " at y " << between;
+    }
+    const double beyond = r + margin + 0.1;
+    const std::vector<FaceClass> far = floorClassesAt(mesh, floor_faces, layers, 0.05, beyond);
+    EXPECT_FALSE(far.empty());
+    for (FaceClass c : far) EXPECT_EQ(c, FaceClass::kFree) << "sparse " << sparse << " at y " << beyond;
+  }
+}
+
+TEST(EvidenceTest, AFootprintOverTooMuchUnknownGroundIsUncertain) {
+  // A measured floor for x < 0 and closing geometry for x > 0: a robot centred 0.1 m from the
+  // boundary has a third of its footprint over ground nobody measured. As reconstructed, the known
+  // part supports it; in the worst case the unknown part does not (min_support 0.7).
+  const RobotProfile profile = smallWheeled();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  mesh.is_steiner.assign(mesh.vertices.size(), 0);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) mesh.is_steiner[v] = mesh.vertices[v].x() > 1e-9;
+  const std::vector<FaceLayers> layers = layersOf(facesOf(mesh, 4), profile);
+  std::size_t near = 0, far = 0;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (std::abs(c.y()) > 2 || layers[f].face_class == FaceClass::kUnknown) continue;
+    if (c.x() > -0.12) {
+      ++near;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at x " << c.x();
+      EXPECT_GE(layers[f].contact, static_cast<float>(profile.min_support)) << "the known part supports it";
+    } else if (c.x() < -profile.footprintCircumradiusM() - 0.05 && c.x() > -2.5) {
+      ++far;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at x " << c.x();
+    }
+  }
+  EXPECT_GT(near, 20u);
+  EXPECT_GT(far, 100u);
+}
+
+}  // namespace
+}  // namespace terramesh::traversability

@@ -1,0 +1,214 @@
+#pragma once
+
+// Trajectory evidence (docs/traversability.md, "Trajectory evidence"): the robot has driven
+// wherever its keyframes were, so the contact patch under each keyframe is driven ground and the
+// body volume between consecutive keyframes is observed free space. Both enter the mesher as
+// driven-ground samples (mesher::PointKind::kDrivenGround) appended to each keyframe.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "mesher/keyframe.h"
+#include "traversability/robot_profile.h"
+
+namespace terramesh::traversability {
+
+/// Point ids with this bit set are driven-ground samples; SLAM point ids must not use it.
+inline constexpr std::uint64_t kDrivenGroundIdBit = std::uint64_t{1} << 63;
+/// A sample's id: kDrivenGroundIdBit | keyframe id << kDrivenSampleIndexBits | sample index.
+inline constexpr int kDrivenSampleIndexBits = 6;
+/// Most samples one keyframe can carry (the index field's size).
+inline constexpr std::size_t kMaxDrivenSamplesPerKeyframe = std::size_t{1} << kDrivenSampleIndexBits;
+/// Largest keyframe id that fits in a sample id.
+inline constexpr std::uint64_t kMaxDrivenKeyframeId = (std::uint64_t{1} << (63 - kDrivenSampleIndexBits)) - 1;
+
+/// Whether `id` is in the range reserved for driven-ground samples.
+inline bool isDrivenGroundId(mesher::PointId id) { return (id.value & kDrivenGroundIdBit) != 0; }
+
+/// How trajectory evidence is estimated, checked and sampled. Lengths in metres.
+struct TrajectoryEvidenceConfig {
+  // Sampling of the contact patch (the footprint on the ground contact plane).
+  /// Largest distance between neighbouring samples of one keyframe's patch.
+  double sample_spacing_m = 1.5;
+  /// Samples lie within this fraction of the footprint's half extents (disc: of its radius).
+  double patch_fraction = 0.8;
+  /// Each keyframe also observes the samples of the keyframe sent before it, when their sensor
+  /// positions are at most this far apart: those rays sweep the body volume between the two
+  /// (0: no sweep).
+  double max_sweep_distance_m = 5.0;
+
+  // Estimating the sensor height (lower envelope of the points under the path).
+  /// Points within this horizontal distance of a sensor's ground projection are "beneath" it.
+  double estimate_radius_m = 2.0;
+  /// ... and at least this far below the sensor along up (nearer ones are not ground).
+  double min_depth_below_m = 0.2;
+  /// A keyframe needs this many points beneath it to give a height.
+  int min_points_per_keyframe = 3;
+  /// The lower envelope of a keyframe's points beneath: this quantile of their depths (the ground
+  /// is the lowest surface under the path; objects beside it are above it) ...
+  double envelope_quantile = 0.9;
+  /// ... and the keyframe's height is the median depth of the points within this band above the
+  /// envelope (the ground's points, without the bias of the envelope towards noisy low points).
+  double ground_band_m = 0.15;
+  /// The estimate needs this many keyframes with a height, and this fraction of all keyframes.
+  int min_keyframes = 5;
+  double min_keyframe_fraction = 0.2;
+
+  // The not-driven rule.
+  /// A sensor higher than this above the points beneath is not on a ground robot (a drone).
+  double max_sensor_height_m = 4.0;
+  /// A robust spread (1.4826 x MAD) of the per-keyframe heights above this: not driven (a
+  /// handheld camera, a drone changing altitude).
+  double max_height_spread_m = 0.15;
+
+  /// A given mounting disagrees with the data when it is further than this (or 3 spreads) from
+  /// the estimate.
+  double disagreement_tolerance_m = 0.1;
+
+  /// @throw std::invalid_argument listing every out-of-range field, each "key: value (expected ...)".
+  void validate() const;
+};
+
+/// What the points under the path say about the sensor's height above the ground.
+struct SensorHeightEstimate {
+  enum class Status {
+    kDriven,     ///< consistent height above the ground beneath: a ground robot
+    kNotDriven,  ///< too high or too variable: a drone or a handheld camera
+    kNoData,     ///< too few points beneath the path to tell
+  };
+  Status status = Status::kNoData;
+  /// Median over keyframes of each keyframe's median height above the points beneath, metres
+  /// (NaN without data).
+  double height_m = 0;
+  /// 1.4826 x median absolute deviation of the per-keyframe heights, metres.
+  double spread_m = 0;
+  std::size_t keyframes_used = 0;
+  std::size_t keyframes_total = 0;
+  /// Why, for kNotDriven and kNoData; empty for kDriven.
+  std::string reason;
+};
+
+/// Estimates the sensor's height above the ground from the points beneath the path. Per sensor
+/// position, the points within `estimate_radius_m` horizontally and at least `min_depth_below_m`
+/// below it (along up) give the median of their depths; across positions, the median and its
+/// MAD. Then the not-driven rule. Positions in map units; O(P + S * points per grid cell).
+/// @param sensors_W    sensor (camera) centres, one per keyframe (its latest pose)
+/// @param points_W     the map points (latest estimates)
+/// @param up_W         unit vector up
+/// @param metres_per_unit  size of one map unit
+/// @throw std::invalid_argument for a bad config, up or scale.
+SensorHeightEstimate estimateSensorHeight(const std::vector<Eigen::Vector3d>& sensors_W,
+                                          const std::vector<Eigen::Vector3d>& points_W, const Eigen::Vector3d& up_W,
+                                          double metres_per_unit, const TrajectoryEvidenceConfig& config);
+
+/// Whether a run uses trajectory evidence, at which sensor height, and why.
+struct TrajectoryEvidenceDecision {
+  bool enabled = false;
+  /// Sensor height above the ground contact plane used for the samples, metres (0 if off).
+  double sensor_height_m = 0;
+  /// "--sensor-height-m", "the robot profile" or "the data".
+  std::string source;
+  SensorHeightEstimate estimate;
+  /// One line on what was inferred: the estimate and its spread, or why the evidence is off.
+  std::string summary;
+  /// When a given height disagrees with the data: a line naming both values.
+  std::optional<std::string> warning;
+};
+
+/// Decides from the estimate and the heights given by the user (`override_height_m`, e.g. a
+/// command-line option) or the profile's mounting (`profile_height_m`): off when the trajectory
+/// does not look driven, or when there is no data and no height is given; else the given height
+/// (the override first) or the estimate, with a warning if a given height disagrees with it.
+TrajectoryEvidenceDecision decideTrajectoryEvidence(const SensorHeightEstimate& estimate,
+                                                    std::optional<double> profile_height_m,
+                                                    std::optional<double> override_height_m,
+                                                    const TrajectoryEvidenceConfig& config);
+
+/// Generates the driven-ground samples of keyframes and keeps the keyframes' current poses, so
+/// that a keyframe's samples follow its corrected pose and go with it.
+///
+/// Samples of keyframe k: the contact patch points (footprint-shaped layout, `samplesPerKeyframe`
+/// of them) placed with the robot base frame B under the sensor: B = T_W_C * T_B_S^-1 with the
+/// profile's full mounting, else origin `sensor_height_m` below the sensor along up, x the
+/// sensor's forward axis projected on the ground plane, z up. Ids: kDrivenGroundIdBit |
+/// k << kDrivenSampleIndexBits | index. Not thread-safe.
+class TrajectoryEvidence {
+ public:
+  /// @param profile    footprint and (optional) full sensor mounting
+  /// @param up_W       unit up in the map frame
+  /// @param metres_per_unit  size of one map unit
+  /// @param sensor_height_m  height of the sensor above the ground contact plane (a decision's)
+  /// @param forward_S  the sensor-frame axis that points forward (+z for cameras, +x for LiDAR)
+  /// @throw std::invalid_argument for a bad config, profile, up, scale or height, or a layout of
+  ///        more than kMaxDrivenSamplesPerKeyframe samples.
+  TrajectoryEvidence(const RobotProfile& profile, const Eigen::Vector3d& up_W, double metres_per_unit,
+                     double sensor_height_m, const Eigen::Vector3d& forward_S, const TrajectoryEvidenceConfig& config);
+
+  /// The samples of `keyframe` at its pose (no state change).
+  /// @throw std::invalid_argument if the keyframe id exceeds kMaxDrivenKeyframeId.
+  std::vector<mesher::PointObservation> samplesOf(const mesher::Keyframe& keyframe) const;
+
+  /// `keyframe` with its own samples appended, and the samples of the keyframe sent (first)
+  /// before it when within `max_sweep_distance_m` (the body-volume sweep). Records its pose.
+  /// Leaves out the SLAM points the drive contradicts (newlyContradicted), now and for good.
+  /// @throw std::invalid_argument if an observation already uses the reserved id range, or the
+  ///        keyframe id exceeds kMaxDrivenKeyframeId; nothing is recorded then.
+  mesher::Keyframe augment(const mesher::Keyframe& keyframe);
+
+  /// Forgets keyframe `id` and returns the ids of its samples (to remove from the mesher after
+  /// removing the keyframe: the next keyframe still observes them). Empty if it is unknown.
+  std::vector<mesher::PointId> remove(mesher::KeyframeId id);
+
+  /// The points the last augment() found inside the robot's body (between max_step_m and
+  /// min_clearance_m above the contact plane, within the footprint) at the keyframe, at the one
+  /// before it (the sweep) or half way: the robot drove through them, so they are outliers. They
+  /// were not contradicted before; remove them from the mesher (an earlier keyframe may have
+  /// inserted them). An obstacle placed on the road later is made of other points, seen when the
+  /// robot is elsewhere: it stays.
+  const std::vector<mesher::PointId>& newlyContradicted() const { return newly_contradicted_; }
+  /// How many points the drive has contradicted so far.
+  std::size_t contradictedCount() const { return contradicted_.size(); }
+
+  std::size_t samplesPerKeyframe() const { return layout_B_m_.size(); }
+  /// The sample layout in the base frame B (x forward, y left, z up; metres).
+  const std::vector<Eigen::Vector3d>& layoutB() const { return layout_B_m_; }
+
+ private:
+  struct Pose {
+    Eigen::Vector3d position_W = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond rotation_W_C = Eigen::Quaterniond::Identity();
+    std::uint64_t order = 0;  ///< when it was first sent
+  };
+  std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
+  /// The robot base frame B at a keyframe's pose (map units).
+  Eigen::Isometry3d baseAt(const Pose& pose) const;
+  /// Whether p_W lies inside the robot's body with its base at T_W_B.
+  bool insideBody(const Eigen::Isometry3d& T_W_B, const Eigen::Vector3d& p_W) const;
+  /// Leaves the contradicted points out of `keyframe` (poses: where the body was).
+  void dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B);
+
+  Eigen::Vector3d up_W_;
+  double metres_per_unit_;
+  double sensor_height_m_;
+  Eigen::Vector3d forward_S_;
+  std::optional<Eigen::Isometry3d> T_B_S_;
+  TrajectoryEvidenceConfig config_;
+  std::vector<Eigen::Vector3d> layout_B_m_;
+  /// The body: footprint (disc radius or rectangle half-extents) and height band, metres.
+  bool disc_ = true;
+  double radius_m_ = 0, half_length_m_ = 0, half_width_m_ = 0, body_low_m_ = 0, body_high_m_ = 0;
+  std::unordered_set<std::uint64_t> contradicted_;
+  std::vector<mesher::PointId> newly_contradicted_;
+  std::unordered_map<std::uint64_t, Pose> poses_;
+  std::map<std::uint64_t, mesher::KeyframeId> by_order_;
+  std::uint64_t next_order_ = 0;
+};
+
+}  // namespace terramesh::traversability

@@ -1,0 +1,156 @@
+// What supports each face (its evidence and height uncertainty) and the class that follows from
+// the layers and that evidence: lethal, uncertain or free, with the combined cost. Internal.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "layer_computer.h"
+
+namespace terramesh::traversability::internal {
+namespace {
+
+/// Steep faces up to this angle (vertical risers, slightly overhanging ones) may be step risers.
+constexpr double kMaxRiserSlopeDeg = 95.0;
+
+double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
+
+}  // namespace
+
+bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
+  StoredFace& f = store.face(s);
+  const SampleGeometry& g = store.geometry(s);
+  const EvidenceModel& m = profile_.evidence;
+  Evidence evidence = Evidence::kInterpolated;
+  double bound = std::numeric_limits<double>::infinity();
+  double relief = bound;
+  if (f.steiner) {
+    // Closing geometry: nobody measured it; its height is unknown.
+  } else if (f.driven_vertices == 3) {
+    // The robot stood there: the mounting's uncertainty, an offset shared by the whole patch.
+    evidence = Evidence::kDriven;
+    bound = m.driven_uncertainty_m;
+    relief = 0;
+  } else {
+    // SLAM points: their noise, plus the relief the span between them can hide; less where rays
+    // crossed the free space in front of the face (nothing stood above it on their way).
+    const bool observed = f.front_crossings > 0;
+    evidence = observed ? Evidence::kMeasured : Evidence::kInterpolated;
+    relief = g.span_m * (observed ? m.relief_per_m_observed : m.relief_per_m_unobserved);
+    bound = m.point_noise_m + relief;
+  }
+  const auto bound_f = static_cast<float>(bound);
+  const bool changed = f.layers.evidence != evidence || f.layers.height_uncertainty_m != bound_f;
+  f.layers.evidence = evidence;
+  f.layers.height_uncertainty_m = bound_f;
+  store.setSampleEvidence(s, evidence == Evidence::kInterpolated, relief);
+  return changed;
+}
+
+double LayerComputer::obstacleExtensionM(const SampleGeometry& t) const {
+  const EvidenceModel& m = profile_.evidence;
+  return std::min(m.obstacle_extension * t.span_m, m.max_obstacle_extension_m);
+}
+
+bool LayerComputer::riseConfirmed(const SurfaceStore& store, Slot s) const {
+  const StoredFace& f = store.face(s);
+  if (!(f.max_z - f.min_z > profile_.max_step_m)) return true;
+  const Eigen::Vector3d& n = f.normal_L;
+  if (!(n.z() > LayerComputer::kMinGroundNormalZ)) return true;  // a wall: judged as one
+  // The plane z = c.z + a x + b y and its direction of ascent.
+  const Eigen::Vector2d gradient(-n.x() / n.z(), -n.y() / n.z());
+  if (!(gradient.norm() > 0)) return true;
+  const Eigen::Vector2d up_slope = gradient.normalized();
+  const Eigen::Vector3d& c = f.centroid_L;
+  double lo = 0, hi = 0;
+  for (const Eigen::Vector3d& p : f.p_L) {
+    const double d = up_slope.dot(p.head<2>() - c.head<2>());
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  const double tolerance = 2.0 * profile_.evidence.point_noise_m + 0.01;
+  store.neighbours(s, neighbours_);
+  for (Slot t : neighbours_) {
+    const StoredFace& g = store.face(t);
+    for (int i = 0; i < 3; ++i) {
+      if (g.vertices[i].steiner || std::find(f.vertices.begin(), f.vertices.end(), g.vertices[i]) != f.vertices.end()) {
+        continue;
+      }
+      const Eigen::Vector3d& p = g.p_L[i];
+      const Eigen::Vector2d offset = p.head<2>() - c.head<2>();
+      const double along = up_slope.dot(offset);
+      const double extent = 1e-6 * (1.0 + hi - lo);
+      if (along < hi + extent && along > lo - extent) continue;  // beside the face, not beyond it
+      if (std::abs(p.z() - (c.z() + gradient.dot(offset))) <= tolerance) return true;
+    }
+  }
+  return false;
+}
+
+bool LayerComputer::lethal(const StoredFace& face) const {
+  const FaceLayers& l = face.layers;
+  // A steep face no taller than max_step_m between level ground (at least half of its footprint
+  // samples on faces no steeper than max_slope: not a steep ramp) is the riser of a step: the
+  // step layer judges it, not the slope.
+  const bool riser = l.slope_deg <= kMaxRiserSlopeDeg && face.max_z - face.min_z <= profile_.max_step_m &&
+                     face.level_fraction >= 0.5f;
+  const bool steep = !(l.slope_deg <= profile_.max_slope_deg);
+  // Only measured (or driven) geometry is lethal by itself: an interpolated wall is a guess, and
+  // whether a robot fits on a wall says nothing (uncertain judges it).
+  if (steep && l.evidence == Evidence::kInterpolated) return false;
+  const bool too_steep = steep && !riser;
+  return too_steep || !face.footprint_fits || l.clearance_m < profile_.min_clearance_m;
+}
+
+bool LayerComputer::uncertain(const StoredFace& face) const {
+  const FaceLayers& l = face.layers;
+  const bool interpolated = l.evidence == Evidence::kInterpolated;
+  const bool steep = !(l.slope_deg <= profile_.max_slope_deg);
+  // A span that rises more than a step with nothing supporting its inside: a step may hide in
+  // it, it is no ramp (unless driven, or the plane is confirmed beyond it along the slope).
+  const bool possible_step = l.evidence != Evidence::kDriven && !steep &&
+                             (interpolated ? face.max_z - face.min_z > profile_.max_step_m : !face.rise_confirmed);
+  return (interpolated && steep) || possible_step || !face.footprint_fits_worst || face.clearance_unknown_low;
+}
+
+double LayerComputer::inflationTerm(double distance_m) const {
+  if (!(distance_m <= profile_.inflation_radius_m)) return 0.0;
+  if (distance_m <= profile_.inscribed_radius_m) return 1.0;
+  return std::exp(-profile_.cost_scaling_factor * (distance_m - profile_.inscribed_radius_m));
+}
+
+void LayerComputer::classify(StoredFace& face) const {
+  FaceLayers& l = face.layers;
+  if (face.steiner || l.rays < static_cast<std::uint32_t>(profile_.min_rays)) {
+    l.face_class = FaceClass::kUnknown;
+    l.cost = std::numeric_limits<float>::quiet_NaN();
+    return;
+  }
+  if (lethal(face)) {
+    l.face_class = FaceClass::kLethal;
+    l.cost = 1.0f;
+    return;
+  }
+  const RobotProfile& p = profile_;
+  const double inflation = inflationTerm(l.lethal_distance_m);
+  if (uncertain(face)) {
+    l.face_class = FaceClass::kUncertain;
+    l.cost = static_cast<float>(std::max(p.evidence.uncertain_cost, inflation));
+    return;
+  }
+  const double slope = clamp01(l.slope_deg / p.max_slope_deg);
+  const double step = p.max_step_m > 0 ? clamp01(l.step_m / p.max_step_m) : (l.step_m > 0 ? 1.0 : 0.0);
+  const double rough = clamp01(l.roughness_m / p.max_roughness_m);
+  // Step, roughness and this contact are the best heading's: the robot drives there turned so.
+  const double fit_contact = face.heading_contact;
+  const double contact =
+      p.min_support < 1 ? clamp01((1.0 - fit_contact) / (1.0 - p.min_support)) : (fit_contact < 1 ? 1.0 : 0.0);
+  const LayerWeights& w = p.weights;
+  const double mean = (w.slope * slope + w.step * step + w.roughness * rough + w.contact * contact +
+                       w.inflation * inflation) /
+                      (w.slope + w.step + w.roughness + w.contact + w.inflation);
+  // Nav2 combines layers by max: the inflation decay is never diluted by flat terrain.
+  l.face_class = FaceClass::kFree;
+  l.cost = static_cast<float>(std::max(mean, inflation));
+}
+
+}  // namespace terramesh::traversability::internal
