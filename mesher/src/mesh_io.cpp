@@ -77,7 +77,9 @@ TriangleMesh readPly(const std::filesystem::path& path) {
     const ply::Property* crossings = faces->find("front_crossings");
     if (rays && crossings && !rays->isList() && !crossings->isList()) {
       for (std::size_t f = 0; f < faces->count; ++f) {
-        if (!(rays->values[f] >= 0) || !(crossings->values[f] >= 0) || crossings->values[f] > rays->values[f]) {
+        constexpr double kMaxCount = 4294967295.0;
+        if (!(rays->values[f] >= 0 && rays->values[f] <= kMaxCount) || !(crossings->values[f] >= 0) ||
+            crossings->values[f] > rays->values[f]) {
           throw InputError(file, "face " + std::to_string(f),
                            "rays and front_crossings must be counts with front_crossings <= rays");
         }

@@ -35,7 +35,7 @@ UNKNOWN_RGBA = (0.62, 0.62, 0.62, 1.0)
 LETHAL_RGBA = (0.85, 0.0, 0.0, 1.0)
 # Uncertain faces (measured, the evidence cannot decide): magenta, as in the viewer.
 UNCERTAIN_RGBA = (235 / 255, 60 / 255, 190 / 255, 1.0)
-PATH_COLOURS = ["magenta", "darkorange", "cyan", "black", "lime", "saddlebrown"]
+PATH_COLOURS = ["cyan", "darkorange", "black", "lime", "saddlebrown", "blue"]  # not magenta: uncertain faces
 TOP_VIEW_SIZE_IN = (12.0, 10.0)
 HISTOGRAMS = [("slope_deg", "slope (degrees)", np.arange(0.0, 90.0 + 1e-9, 2.0)),
               ("contact", "ground contact (fraction of the footprint)", np.linspace(0.0, 1.0, 41)),

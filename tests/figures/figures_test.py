@@ -296,7 +296,7 @@ class TraversabilityFiguresTest(ScriptCase):
         grey = share_of_colour(top, (0.62, 0.62, 0.62))
         self.assertGreater(red, 0.02)
         self.assertGreater(grey, 0.02)
-        self.assertGreater(share_of_colour(top, (1.0, 0.0, 1.0), 0.05), 0.0005)  # the magenta path
+        self.assertGreater(share_of_colour(top, (0.0, 1.0, 1.0), 0.05), 0.0005)  # the cyan path
         self.assert_png(self.path("map", "plots", "traversability_histograms.png"), 1200, 700)
 
     def test_kitti_up_axis_scale_and_several_paths(self):

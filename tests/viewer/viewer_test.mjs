@@ -15,7 +15,7 @@ import { countColour, decodePng, fractionChanged, fractionNot } from './png.mjs'
 const BIN = process.env.TERRAMESH_BIN;
 const SOURCE = process.env.TERRAMESH_SOURCE_DIR;
 const BACKGROUND = [0x1e, 0x22, 0x28];
-const PATH_RGB = [0xff, 0x3d, 0xf2];
+const PATH_RGB = [0x00, 0xe5, 0xff];
 const TRAJECTORY_RGB = [0xff, 0xd4, 0x00];
 const POINTS_RGB = [0x7f, 0xd8, 0xff];
 const HATCH_RGB = [225, 225, 225];  // viewer/src/colormaps.js UNKNOWN_HATCH_RGB

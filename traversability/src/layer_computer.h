@@ -38,8 +38,9 @@ namespace terramesh::traversability::internal {
 ///   and min_clearance_m above the face's reference plane, projected on the horizontal plane; the
 ///   footprint (the exact disc or rectangle, not its samples) meeting one collides. The step of
 ///   that heading is then at least the obstacle's top above the plane (capped at min_clearance_m),
-///   so it does not fit. Faces touching a Steiner vertex (closing geometry nobody measured) are
-///   never obstacles: unknown is never lethal. Upward-facing ground rising inside the footprint is
+///   so it does not fit. Interpolated faces (touching a Steiner vertex, or no ray in front of them)
+///   and faces anchored on driven ground are only possible obstacles: never lethal, they make the
+///   face uncertain (worst case, layer_evidence.cpp). Upward-facing ground rising inside the footprint is
 ///   judged by the step instead. A ground face larger than the footprint blocked (at every heading)
 ///   at its centroid counts as blocked only if it is also blocked at more than half of its
 ///   obstaclePoints.

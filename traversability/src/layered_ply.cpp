@@ -172,11 +172,16 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
       }
       layers.evidence = static_cast<Evidence>(static_cast<int>(e));
     }
+    if (!(rays.values[f] >= 0 && rays.values[f] <= 4294967295.0)) {
+      throw InputError(file, where, "rays must be a count in [0, 2^32)");
+    }
     layers.rays = static_cast<std::uint32_t>(rays.values[f]);
     layers.steiner = steiner.values[f] != 0;
     if (front_crossings && !front_crossings->isList()) {
       const double c = front_crossings->values[f];
-      if (!(c >= 0) || c > rays.values[f]) throw InputError(file, where, "front_crossings must be a count <= rays");
+      if (!(c >= 0) || c > rays.values[f]) {
+        throw InputError(file, where, "front_crossings must be a count <= rays");
+      }
       mesh.face_rays.push_back(layers.rays);
       mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(c));
     }

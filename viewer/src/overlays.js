@@ -58,7 +58,7 @@ export class SlamPoints {
   }
 }
 
-const PATH_COLOURS = [0xff3df2, 0x00e5ff, 0xffffff, 0xff8c00];
+const PATH_COLOURS = [0x00e5ff, 0xffffff, 0xff8c00, 0x7cfc00];  // not magenta: uncertain faces
 
 /** A path*.csv (x, y, z, ...) as a tube lifted a little along up, so it stays visible on the mesh. */
 export function pathObject(csv, origin, up, radius, index) {
