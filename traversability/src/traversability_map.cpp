@@ -240,7 +240,6 @@ class TraversabilityMap::Impl {
       if (const std::optional<Slot> s = store_.find(face.key)) setRays(*s, face);
     }
     stats.faces_reobserved = reobserved.size() + reevidenced.size();
-
   }
 
   LayerUpdateStats apply(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around) {
