@@ -12,6 +12,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "evaluation/cell_key.h"
 #include "ground_truth_check.h"
 #include "planning/surface_planner.h"
 
@@ -20,19 +21,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-struct CellKey {
-  std::int64_t x, y, z;
-  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-struct CellHash {
-  std::size_t operator()(const CellKey& k) const {
-    return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
-  }
-};
-CellKey keyOf(const Eigen::Vector3d& p, double cell) {
-  return {static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell)),
-          static_cast<std::int64_t>(std::floor(p.z() / cell))};
-}
+using evaluation::CellKey;
+using CellHash = evaluation::CellKeyHash;
+CellKey keyOf(const Eigen::Vector3d& p, double cell) { return evaluation::cellKeyOf(p, cell); }
 
 /// Area-weighted centroids of the traversable truth faces, one per cell.
 std::vector<Eigen::Vector3d> traversableSamples(const evaluation::GroundTruthTraversability& labels, double cell) {

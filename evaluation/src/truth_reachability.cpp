@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "evaluation/cell_key.h"
 #include "evaluation/mesh_refinement.h"
 
 namespace terramesh::evaluation {
@@ -50,15 +51,6 @@ bool shareSegment(const Edge& p, const Edge& q, double tolerance) {
   return overlap > tolerance;
 }
 
-struct CellKey {
-  std::int64_t x, y, z;
-  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-struct CellHash {
-  std::size_t operator()(const CellKey& k) const {
-    return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
-  }
-};
 
 /// Joins every two traversable faces with a shared edge segment. Two overlapping edges have
 /// midpoints at most (l1 + l2) / 2 <= the longest edge apart, so cells of that size and their 26
@@ -76,12 +68,8 @@ void joinAcrossEdges(const mesher::TriangleMesh& mesh, const std::vector<std::ui
     }
   }
   const double cell = longest;
-  auto keyOf = [cell](const Edge& e) {
-    const Eigen::Vector3d m = 0.5 * (e.a + e.b) / cell;
-    return CellKey{static_cast<std::int64_t>(std::floor(m.x())), static_cast<std::int64_t>(std::floor(m.y())),
-                   static_cast<std::int64_t>(std::floor(m.z()))};
-  };
-  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> cells;
+  auto keyOf = [cell](const Edge& e) { return cellKeyOf(0.5 * (e.a + e.b), cell); };
+  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellKeyHash> cells;
   for (std::uint32_t e = 0; e < edges.size(); ++e) cells[keyOf(edges[e])].push_back(e);
   for (std::uint32_t e = 0; e < edges.size(); ++e) {
     const Edge& p = edges[e];
