@@ -109,8 +109,7 @@ int runMesh(const std::vector<std::string>& args) {
   const datasets::SlamStream stream = datasets::readAnyStream(input, read_options);
   std::optional<ResumedMeshRun> resumed;
   if (resume_path) resumed = readMeshCheckpoint(*resume_path, stream);
-  const mesher::MesherConfig config =
-      resumed ? resumed->mesher.config() : mesherConfigFrom(mesher_options, *mode, stream);
+  mesher::MesherConfig config = resumed ? resumed->mesher.config() : mesherConfigFrom(mesher_options, *mode, stream);
   const std::filesystem::path output = output_dir;
   std::optional<TraversabilitySession> traversability =
       TraversabilitySession::fromOptions(traversability_options, stream, config.metres_per_unit, output);
@@ -121,6 +120,8 @@ int runMesh(const std::vector<std::string>& args) {
                      "made with trajectory evidence \"" + resumed->state.trajectory_evidence + "\", this run has \"" +
                          evidence.settings() + "\"; resume with the robot and evidence options of the interrupted run");
   }
+  // Nothing under the driven ground is free space (a resumed mesher keeps its own setting).
+  if (evidence.enabled() && !resumed) config.driven_ground_up_W = traversability->frame().up_W;
   std::filesystem::create_directories(output);
   if (snapshot_every > 0) std::filesystem::create_directories(output / "snapshots");
 

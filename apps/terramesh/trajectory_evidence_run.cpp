@@ -72,7 +72,13 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
       std::abs(stream.sensor_up_S.normalized().z()) > 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
   run.evidence_.emplace(profile, frame.up_W, frame.metres_per_unit, decision.sensor_height_m, forward_S, config);
   run.sensor_height_m_ = decision.sensor_height_m;
-  run.summary_ += "; " + std::to_string(run.evidence_->samplesPerKeyframe()) + " driven-ground samples per keyframe";
+  std::ostringstream patches;
+  patches << "; patches of " << run.evidence_->samplesPerKeyframe() << " driven-ground samples under each keyframe";
+  if (config.station_spacing_m > 0) {
+    patches << " and at stations at most " << std::max(config.station_spacing_m, run.evidence_->patchLengthM())
+            << " m apart between keyframes";
+  }
+  run.summary_ += patches.str();
   return run;
 }
 

@@ -16,7 +16,7 @@ bool Grower::adjacentToOutside(const CellHandle& cell) const {
 void Grower::push(const CellHandle& cell) {
   CellInfo& info = cell->info();
   if (info.flags & (kCellOutside | kCellQueued)) return;
-  if (!state_.weights.isFree(cell) || state_.tri.is_infinite(cell)) return;
+  if (!state_.isFree(cell) || state_.tri.is_infinite(cell)) return;
   info.flags |= kCellQueued;
   queue_.push({info.weight, info.uid, cell});
 }
@@ -42,7 +42,7 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
   if (state_.outside.size() == 0) {
     CellHandle best;
     for (const StampedCell& c : candidates) {
-      if (!state_.alive(c) || state_.tri.is_infinite(c.cell) || !state_.weights.isFree(c.cell)) {
+      if (!state_.alive(c) || state_.tri.is_infinite(c.cell) || !state_.isFree(c.cell)) {
         continue;
       }
       if (best == CellHandle() || c.cell->info().weight > best->info().weight) best = c.cell;
@@ -87,7 +87,7 @@ void Grower::edgePass(UpdateStats& stats) {
         auto c = start;
         do {
           const CellHandle h = c;
-          if (!h->info().outside() && !state_.tri.is_infinite(h) && state_.weights.isFree(h)) ring.push_back(h);
+          if (!h->info().outside() && !state_.tri.is_infinite(h) && state_.isFree(h)) ring.push_back(h);
         } while (++c != start);
         if (!tryAddSet(ring, stats)) continue;
         refused.insert(refused.end(), final_refused_.begin(), final_refused_.end());
@@ -196,7 +196,7 @@ bool Grower::tryAddBall(const CellHandle& cell, UpdateStats& stats) {
   std::vector<CellHandle>& set = ball_;
   for (int i = 0; i < 4; ++i) {
     const CellHandle n = cell->neighbor(i);
-    if (n->info().outside() || state_.tri.is_infinite(n) || !state_.weights.isFree(n)) continue;
+    if (n->info().outside() || state_.tri.is_infinite(n) || !state_.isFree(n)) continue;
     set.assign({cell, n});
     if (tryAddSet(set, stats)) return true;
   }
@@ -208,7 +208,7 @@ bool Grower::tryAddBall(const CellHandle& cell, UpdateStats& stats) {
     for (const CellHandle& h : scratch_) {
       if (h->info().mark == mark) continue;
       h->info().mark = mark;
-      if (!h->info().outside() && !state_.tri.is_infinite(h) && state_.weights.isFree(h)) set.push_back(h);
+      if (!h->info().outside() && !state_.tri.is_infinite(h) && state_.isFree(h)) set.push_back(h);
     }
   }
   return tryAddSet(set, stats);
@@ -305,7 +305,7 @@ void Grower::genusPass(UpdateStats& stats) {
     state_.tri.incident_cells(v, std::back_inserter(star));
     to_add.clear();
     for (const CellHandle& cell : star) {
-      if (!cell->info().outside() && !state_.tri.is_infinite(cell) && state_.weights.isFree(cell)) {
+      if (!cell->info().outside() && !state_.tri.is_infinite(cell) && state_.isFree(cell)) {
         to_add.push_back(cell);
       }
     }

@@ -47,6 +47,37 @@ struct MapState {
   /// A fresh value for VertexInfo::mark, distinct from every mark currently stored.
   std::uint32_t nextVertexMark() { return epochs.nextVertexMark(); }
 
+  /// Whether `cell` is free space: its weight is above the threshold, or, over driven ground, any
+  /// ray crosses it (the robot's body passed there); and it does not lie under driven ground
+  /// (MesherConfig::driven_ground_up_W). A function of the cell's rays and vertices only.
+  bool isFree(const CellHandle& cell) const {
+    const int side = drivenGroundSide(cell);
+    if (side < 0) return false;
+    return weights.isFree(cell) || (side > 0 && cell->info().crossings > 0);
+  }
+
+  /// Where `cell` lies relative to the driven-ground vertices among its corners, judged by its
+  /// centroid along MesherConfig::driven_ground_up_W: -1 below one of them, +1 above all of them,
+  /// 0 with none (or when up is not given, or the cell is infinite).
+  int drivenGroundSide(const CellHandle& cell) const {
+    if (config.driven_ground_up_W.isZero(0) || tri.is_infinite(cell)) return 0;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 4; ++i) {
+      const Point& p = cell->vertex(i)->point();
+      centroid += Eigen::Vector3d(p.x(), p.y(), p.z());
+    }
+    centroid *= 0.25;
+    int side = 0;
+    for (int i = 0; i < 4; ++i) {
+      const VertexHandle v = cell->vertex(i);
+      if (v->info().point == kNone || registry.point(v->info().point).kind != PointKind::kDrivenGround) continue;
+      const Point& p = v->point();
+      if ((centroid - Eigen::Vector3d(p.x(), p.y(), p.z())).dot(config.driven_ground_up_W) < 0) return -1;
+      side = 1;
+    }
+    return side;
+  }
+
   /// Gives a new unique stamp to a freshly created cell.
   void stampNewCell(const CellHandle& cell) { cell->info().uid = next_uid++; }
 

@@ -127,6 +127,9 @@ std::vector<std::string> MesherConfig::problems() const {
   require(spread_cap >= 0, "spread_cap must be non-negative (0 means no cap)");
   require(finite(free_threshold) && free_threshold >= 0, "free_threshold must be non-negative");
   require(finite(move_threshold_m) && move_threshold_m >= 0, "move_threshold_m must be non-negative");
+  require(driven_ground_up_W.allFinite() &&
+              (driven_ground_up_W.isZero(0) || std::abs(driven_ground_up_W.norm() - 1.0) <= 1e-6),
+          "driven_ground_up_W must be zero or a unit vector");
   if (!incremental_steiner_grid) {
     require(fixed_grid_bounds_W.has_value(),
             "fixed_grid_bounds_W is required when incremental_steiner_grid is off");

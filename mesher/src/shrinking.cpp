@@ -170,7 +170,7 @@ void Shrinker::peel(UpdateStats& stats) {
   }
   // Shrunk cells are free space waiting to be grown back once the new points are in.
   for (const CellHandle& cell : enclosed_) {
-    if (!cell->info().outside() && state_.weights.isFree(cell)) state_.candidates.add(cell);
+    if (!cell->info().outside() && state_.isFree(cell)) state_.candidates.add(cell);
   }
   enclosed_.clear();
 }

@@ -154,6 +154,18 @@ TEST(MesherConfigValidation, ListsEveryProblem) {
   }
 }
 
+TEST(MesherConfigValidation, DrivenGroundUpIsZeroOrAUnitVector) {
+  MesherConfig config;
+  EXPECT_TRUE(config.problems().empty());  // zero: not given
+  config.driven_ground_up_W = Eigen::Vector3d(0, 0, 2);
+  ASSERT_EQ(config.problems().size(), 1u);
+  EXPECT_NE(config.problems().front().find("driven_ground_up_W"), std::string::npos);
+  config.driven_ground_up_W = Eigen::Vector3d(0, std::nan(""), 1);
+  EXPECT_EQ(config.problems().size(), 1u);
+  config.driven_ground_up_W = Eigen::Vector3d(0.6, 0, 0.8);
+  EXPECT_TRUE(config.problems().empty());
+}
+
 TEST(MesherConfigValidation, BaselinesNeedAFixedGrid) {
   MesherConfig config = MesherConfig::forMode(MesherMode::kLitvinov13);
   EXPECT_FALSE(config.problems().empty());

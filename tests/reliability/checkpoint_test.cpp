@@ -184,6 +184,7 @@ TEST(CheckpointResume, ConfigurationComesBackWithTheState) {
   config.edge_pass_min_weight = 123.0;
   config.handle_min_rays = 17;  // romanoni15's default is 0
   config.surface_history_max_bytes = 777777;
+  config.driven_ground_up_W = Eigen::Vector3d(0.6, 0.0, 0.8);
   Mesher mesher(config);
   const LoadedCheckpoint loaded = load(save(mesher));
   const MesherConfig& back = loaded.mesher.config();
@@ -193,6 +194,7 @@ TEST(CheckpointResume, ConfigurationComesBackWithTheState) {
   EXPECT_EQ(back.edge_pass_min_weight, 123.0);
   EXPECT_EQ(back.handle_min_rays, 17);
   EXPECT_EQ(back.surface_history_max_bytes, 777777u);
+  EXPECT_EQ(back.driven_ground_up_W, config.driven_ground_up_W);
   EXPECT_EQ(back.spread_cap, config.spread_cap);
   EXPECT_EQ(back.point_policy, config.point_policy);
   ASSERT_TRUE(back.fixed_grid_bounds_W.has_value());

@@ -145,18 +145,34 @@ TEST(DrivenSamplesTest, ReservedIdsAndHugeKeyframeIdsAreRefused) {
 TEST(DrivenSamplesTest, KeyframesObserveThePreviousPatchAndRemovalReturnsTheSamples) {
   TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
   const std::size_t n = evidence.samplesPerKeyframe();
+  // The patch (centre and a ring of radius 0.24 m) is 0.36 m long: stations every 0.5 m.
+  ASSERT_NEAR(evidence.patchLengthM(), 0.36, 1e-12);
+  EXPECT_EQ(evidence.stationsFor(0.4), 0u);
+  EXPECT_EQ(evidence.stationsFor(2.0), 3u);
+  EXPECT_EQ(evidence.stationsFor(1e6), evidence.maxStationsPerKeyframe());
   EXPECT_EQ(evidence.augment(cameraAt(1, {0, 0, 1})).observations.size(), n);
   const mesher::Keyframe second = evidence.augment(cameraAt(2, {2, 0, 1}));
-  ASSERT_EQ(second.observations.size(), 2 * n);  // its own patch and the sweep to the first one's
+  // Its own patch (at x = 2), patches at stations 1-3 (x = 0.5, 1 and 1.5 on the way from the first
+  // keyframe) and the sweep to the first one's.
+  ASSERT_EQ(second.observations.size(), 5 * n);
+  for (std::size_t station = 0; station <= 3; ++station) {
+    EXPECT_NEAR(second.observations[station * n].position_W.x(), station == 0 ? 2.0 : 0.5 * static_cast<double>(station),
+                1e-12);
+    EXPECT_NEAR(second.observations[station * n].position_W.z(), 0.0, 1e-12);
+  }
   const auto first_samples = evidence.samplesOf(cameraAt(1, {0, 0, 1}));
-  for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(second.observations[n + i].point, first_samples[i].point);
-  // Too far apart: no sweep.
+  for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(second.observations[4 * n + i].point, first_samples[i].point);
+  // Too far apart: no sweep and no stations.
   EXPECT_EQ(evidence.augment(cameraAt(3, {20, 0, 1})).observations.size(), n);
   const std::vector<mesher::PointId> removed = evidence.remove(mesher::KeyframeId{1});
   ASSERT_EQ(removed.size(), n);
   EXPECT_EQ(removed.front(), first_samples.front().point);
-  // Keyframe 2 re-sent: its predecessor is gone.
-  EXPECT_EQ(evidence.augment(cameraAt(2, {2, 0.1, 1})).observations.size(), n);
+  // Keyframe 2 re-sent: its predecessor is gone, so no sweep, but it keeps its 3 stations (placed
+  // towards the pose it last saw): the same sample ids, so none is left behind in the mesher.
+  const mesher::Keyframe resent = evidence.augment(cameraAt(2, {2, 0.1, 1}));
+  ASSERT_EQ(resent.observations.size(), 4 * n);
+  for (std::size_t i = 0; i < 4 * n; ++i) EXPECT_EQ(resent.observations[i].point, second.observations[i].point);
+  EXPECT_EQ(evidence.remove(mesher::KeyframeId{2}).size(), 4 * n);
 }
 
 TEST(DrivenSamplesTest, PointsInsideTheBodyWhereTheRobotDroveAreDroppedForGood) {
@@ -374,9 +390,14 @@ double medianHeightErrorUnderPath(const mesher::TriangleMesh& mesh, std::size_t&
   return errors[errors.size() / 2];
 }
 
-mesher::TriangleMesh meshStreet(bool with_evidence, const TrajectoryEvidenceConfig& config = {}) {
+/// The street meshed without or with trajectory evidence; with it, the mesher also knows up (so
+/// nothing under the driven ground is free) unless `ground_rule` is false.
+mesher::TriangleMesh meshStreet(bool with_evidence, const TrajectoryEvidenceConfig& config = {},
+                                bool ground_rule = true) {
   const Street& s = street();
-  mesher::Mesher mesher(mesher::MesherConfig::forMode(mesher::MesherMode::kProposed));
+  mesher::MesherConfig mesher_config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
+  if (with_evidence && ground_rule) mesher_config.driven_ground_up_W = s.scene.up_W.normalized();
+  mesher::Mesher mesher(mesher_config);
   RobotProfile car = loadRobotProfile(kRobots / "car.yaml");
   TrajectoryEvidence evidence(car, s.scene.up_W, 1.0, 1.65, Eigen::Vector3d::UnitZ(), config);
   std::size_t keyframes = 0;
@@ -424,8 +445,9 @@ mesher::TriangleMesh meshStreet(bool with_evidence, const TrajectoryEvidenceConf
 
 /// Fraction of points in the body volume between consecutive keyframes (0.4 and 0.9 m above the
 /// road, under the camera and 0.5 m to either side, a quarter, half and three quarters of the way)
-/// that lie in the mesh's free space.
-double bodyVolumeFreeFraction(const mesher::TriangleMesh& mesh) {
+/// that lie in the mesh's free space; with `above_road_m` negative, of points that far under the
+/// road instead.
+double bodyVolumeFreeFraction(const mesher::TriangleMesh& mesh, std::vector<double> heights_m = {0.4, 0.9}) {
   const Street& s = street();
   const double camera_height_m = datasets::StreetSceneConfig{}.camera_height_m;
   std::size_t free = 0, total = 0;
@@ -434,7 +456,7 @@ double bodyVolumeFreeFraction(const mesher::TriangleMesh& mesh) {
     const Eigen::Isometry3d& b = s.slam.keyframes[k + 1].true_T_W_C;
     for (double t : {0.25, 0.5, 0.75}) {
       for (double side : {-0.5, 0.0, 0.5}) {
-        for (double above_road_m : {0.4, 0.9}) {
+        for (double above_road_m : heights_m) {
           const Eigen::Vector3d p = (1 - t) * a.translation() + t * b.translation() + side * a.linear().col(0) -
                                     (camera_height_m - above_road_m) * s.scene.up_W;
           free += test::insideClosedMesh(mesh, p);
@@ -467,6 +489,20 @@ TEST(StreetEvidenceTest, RoadUnderThePathIsCloserToTheTruthAndTheBodyVolumeFreeW
   EXPECT_GE(free_on, free_off);
   EXPECT_GE(free_on, free_no_sweep);
   EXPECT_GE(free_on, 0.95);
+
+  // With the ground rule (no free cell under driven ground; over it, any ray crossing carves), the
+  // body volume just above the road is freer than without it, and nothing under the road is free.
+  const mesher::TriangleMesh without_rule = meshStreet(true, {}, false);
+  const std::vector<double> low = {0.05, 0.1, 0.2};
+  const double low_rule = bodyVolumeFreeFraction(with, low);
+  const double low_no_rule = bodyVolumeFreeFraction(without_rule, low);
+  const double under_rule = bodyVolumeFreeFraction(with, {-0.02, -0.05, -0.2});
+  std::printf("body volume 0.05-0.2 m above the road in free space: %.3f with the ground rule, %.3f without; "
+              "0.02-0.2 m under the road: %.3f\n", low_rule, low_no_rule, under_rule);
+  EXPECT_GT(low_rule, low_no_rule);
+  EXPECT_LE(under_rule, 0.01);
+  std::size_t missing_no_rule = 0;
+  EXPECT_LE(on, medianHeightErrorUnderPath(without_rule, missing_no_rule) + 0.005);
 }
 
 }  // namespace

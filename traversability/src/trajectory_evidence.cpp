@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <iterator>
 #include <limits>
+#include <optional>
+#include <utility>
 #include <sstream>
 #include <stdexcept>
 
@@ -146,6 +148,7 @@ void TrajectoryEvidenceConfig::validate() const {
   require(patch_fraction > 0 && patch_fraction <= 1, "patch_fraction", patch_fraction, "(0, 1]");
   require(max_sweep_distance_m >= 0 && max_sweep_distance_m <= 1000, "max_sweep_distance_m", max_sweep_distance_m,
           "[0, 1000]");
+  require(station_spacing_m >= 0 && station_spacing_m <= 100, "station_spacing_m", station_spacing_m, "[0, 100]");
   require(estimate_radius_m > 0 && estimate_radius_m <= 100, "estimate_radius_m", estimate_radius_m, "(0, 100]");
   require(min_depth_below_m >= 0 && min_depth_below_m <= 100, "min_depth_below_m", min_depth_below_m, "[0, 100]");
   require(min_points_per_keyframe >= 1, "min_points_per_keyframe", min_points_per_keyframe, "an integer >= 1");
@@ -291,6 +294,12 @@ TrajectoryEvidence::TrajectoryEvidence(const RobotProfile& profile, const Eigen:
   forward_S_.normalize();
   if (T_B_S_) T_B_S_->translation().z() = sensor_height_m;  // the decision's height wins
   layout_B_m_ = patchLayout(profile, config_);
+  double x_min = 0, x_max = 0;
+  for (const Eigen::Vector3d& p : layout_B_m_) {
+    x_min = std::min(x_min, p.x());
+    x_max = std::max(x_max, p.x());
+  }
+  patch_length_m_ = x_max - x_min;
   disc_ = profile.footprint == FootprintShape::kDisc;
   radius_m_ = profile.footprint_radius_m;
   half_length_m_ = 0.5 * profile.footprint_length_m;
@@ -304,20 +313,40 @@ TrajectoryEvidence::TrajectoryEvidence(const RobotProfile& profile, const Eigen:
   }
 }
 
+std::size_t TrajectoryEvidence::stationsFor(double gap_m) const {
+  if (!(config_.station_spacing_m > 0) || !(gap_m > 0)) return 0;
+  const double spacing = std::max(config_.station_spacing_m, patch_length_m_);
+  const double wanted = std::ceil(gap_m / spacing) - 1;
+  return wanted <= 0 ? 0 : std::min(maxStationsPerKeyframe(), static_cast<std::size_t>(wanted));
+}
+
+TrajectoryEvidence::Pose TrajectoryEvidence::stationPose(const Pose& pose, std::size_t station) const {
+  if (station == 0) return pose;
+  const double t = static_cast<double>(station) / static_cast<double>(pose.stations + 1);
+  Pose at = pose;
+  at.position_W = pose.previous_position_W + t * (pose.position_W - pose.previous_position_W);
+  at.rotation_W_C = pose.previous_rotation_W_C.normalized().slerp(t, pose.rotation_W_C.normalized());
+  return at;
+}
+
 std::vector<mesher::PointObservation> TrajectoryEvidence::samplesAt(mesher::KeyframeId id, const Pose& pose) const {
   if (id.value > kMaxDrivenKeyframeId) {
     throw std::invalid_argument("keyframe " + std::to_string(id.value) + ": trajectory evidence needs keyframe ids <= " +
                                 std::to_string(kMaxDrivenKeyframeId) + " (they are part of the samples' point ids)");
   }
-  const Eigen::Isometry3d T_W_B = baseAt(pose);
+  const std::size_t patch = layout_B_m_.size();
   std::vector<mesher::PointObservation> samples;
-  samples.reserve(layout_B_m_.size());
-  for (std::size_t i = 0; i < layout_B_m_.size(); ++i) {
-    mesher::PointObservation sample;
-    sample.point = mesher::PointId{kDrivenGroundIdBit | (id.value << kDrivenSampleIndexBits) | i};
-    sample.position_W = T_W_B * (layout_B_m_[i] / metres_per_unit_);
-    sample.kind = mesher::PointKind::kDrivenGround;
-    samples.push_back(sample);
+  samples.reserve(patch * (1 + pose.stations));
+  // Station 0 is the keyframe; stations 1..n lie between the previous keyframe and it.
+  for (std::size_t station = 0; station <= pose.stations; ++station) {
+    const Eigen::Isometry3d T_W_B = baseAt(stationPose(pose, station));
+    for (std::size_t i = 0; i < patch; ++i) {
+      mesher::PointObservation sample;
+      sample.point = mesher::PointId{kDrivenGroundIdBit | (id.value << kDrivenSampleIndexBits) | (station * patch + i)};
+      sample.position_W = T_W_B * (layout_B_m_[i] / metres_per_unit_);
+      sample.kind = mesher::PointKind::kDrivenGround;
+      samples.push_back(sample);
+    }
   }
   return samples;
 }
@@ -375,6 +404,8 @@ Eigen::Isometry3d TrajectoryEvidence::baseAt(const Pose& pose) const {
 
 std::vector<mesher::PointObservation> TrajectoryEvidence::samplesOf(const mesher::Keyframe& keyframe) const {
   Pose pose;
+  const auto known = poses_.find(keyframe.id.value);
+  if (known != poses_.end()) pose = known->second;
   pose.position_W = keyframe.position_W_C;
   pose.rotation_W_C = keyframe.rotation_W_C;
   return samplesAt(keyframe.id, pose);
@@ -392,34 +423,45 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   mesher::Keyframe augmented = keyframe;
   const auto known = poses_.find(keyframe.id.value);
   Pose pose;
+  if (known != poses_.end()) pose = known->second;
   pose.position_W = keyframe.position_W_C;
   pose.rotation_W_C = keyframe.rotation_W_C;
   pose.order = known != poses_.end() ? known->second.order : next_order_;
-  // Where the body was: at this keyframe, at the one before it and half way between.
-  std::vector<Eigen::Isometry3d> bodies{baseAt(pose)};
-  const auto earlier = by_order_.lower_bound(pose.order);
-  if (earlier != by_order_.begin()) {
-    const Pose& previous = poses_.at(std::prev(earlier)->second.value);
-    if ((previous.position_W - pose.position_W).norm() * metres_per_unit_ <= config_.max_sweep_distance_m) {
-      bodies.push_back(baseAt(previous));
-      Pose half = pose;
-      half.position_W = 0.5 * (previous.position_W + pose.position_W);
-      bodies.push_back(baseAt(half));
-    }
-  }
-  const std::vector<mesher::PointObservation> own = samplesOf(keyframe);  // throws before any change
-  dropContradicted(augmented, bodies);
-  augmented.observations.insert(augmented.observations.end(), own.begin(), own.end());
-
+  // The keyframe sent before it, if near enough to have been driven to in one go.
+  std::optional<std::pair<mesher::KeyframeId, Pose>> previous;
   const auto before = by_order_.lower_bound(pose.order);
   if (before != by_order_.begin() && config_.max_sweep_distance_m > 0) {
-    const mesher::KeyframeId previous = std::prev(before)->second;
-    const Pose& previous_pose = poses_.at(previous.value);
-    const double gap_m = (previous_pose.position_W - pose.position_W).norm() * metres_per_unit_;
-    if (gap_m <= config_.max_sweep_distance_m) {
-      const std::vector<mesher::PointObservation> swept = samplesAt(previous, previous_pose);
-      augmented.observations.insert(augmented.observations.end(), swept.begin(), swept.end());
+    const mesher::KeyframeId id = std::prev(before)->second;
+    const Pose& candidate = poses_.at(id.value);
+    if ((candidate.position_W - pose.position_W).norm() * metres_per_unit_ <= config_.max_sweep_distance_m) {
+      previous.emplace(id, candidate);
     }
+  }
+  if (previous) {
+    pose.previous_position_W = previous->second.position_W;
+    pose.previous_rotation_W_C = previous->second.rotation_W_C;
+  }
+  if (known == poses_.end()) {
+    pose.stations = previous ? stationsFor((previous->second.position_W - pose.position_W).norm() * metres_per_unit_) : 0;
+  }
+  // Where the body was: at this keyframe, at its stations, half way and at the one before it.
+  std::vector<Eigen::Isometry3d> bodies{baseAt(pose)};
+  for (std::size_t station = 1; station <= pose.stations; ++station) {
+    bodies.push_back(baseAt(stationPose(pose, station)));
+  }
+  if (previous) {
+    bodies.push_back(baseAt(previous->second));
+    Pose half = pose;
+    half.position_W = 0.5 * (previous->second.position_W + pose.position_W);
+    bodies.push_back(baseAt(half));
+  }
+  const std::vector<mesher::PointObservation> own = samplesAt(keyframe.id, pose);  // throws before any change
+  dropContradicted(augmented, bodies);
+  augmented.observations.insert(augmented.observations.end(), own.begin(), own.end());
+  if (previous) {
+    // The sweep: this sensor also observes the previous keyframe's samples.
+    const std::vector<mesher::PointObservation> swept = samplesAt(previous->first, previous->second);
+    augmented.observations.insert(augmented.observations.end(), swept.begin(), swept.end());
   }
   if (known == poses_.end()) {
     by_order_.emplace(next_order_++, keyframe.id);

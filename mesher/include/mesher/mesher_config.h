@@ -89,6 +89,11 @@ struct MesherConfig {
   double free_threshold = 20.0;
   /// A point whose new estimate moved by no more than this keeps its vertex.
   double move_threshold_m = 0.0;
+  /// Up, for driven-ground samples (PointKind::kDrivenGround), as a unit vector in W; zero: not
+  /// given. When given, a cell incident to a driven-ground vertex whose centroid lies below that
+  /// vertex along up is never free space: the robot stood on the ground there, so nothing under it
+  /// is empty, whatever rays pass near it.
+  Eigen::Vector3d driven_ground_up_W = Eigen::Vector3d::Zero();
   /// Whether inserted points follow their SLAM estimates (proposed) or stay put (baselines).
   PointPolicy point_policy = PointPolicy::kExactMoves;
 

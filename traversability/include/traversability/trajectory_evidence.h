@@ -43,6 +43,11 @@ struct TrajectoryEvidenceConfig {
   /// positions are at most this far apart: those rays sweep the body volume between the two
   /// (0: no sweep).
   double max_sweep_distance_m = 5.0;
+  /// The robot also drove between two keyframes within `max_sweep_distance_m`: the later one
+  /// carries patches at stations along the way, at most this far apart along the path, or the
+  /// patch's own length if that is longer (0: no stations). A keyframe keeps the number of
+  /// stations it was first given; re-sent, it places them between its new pose and the one before.
+  double station_spacing_m = 0.5;
 
   // Estimating the sensor height (lower envelope of the points under the path).
   /// Points within this horizontal distance of a sensor's ground projection are "beneath" it.
@@ -152,6 +157,8 @@ class TrajectoryEvidence {
                      double sensor_height_m, const Eigen::Vector3d& forward_S, const TrajectoryEvidenceConfig& config);
 
   /// The samples of `keyframe` at its pose (no state change).
+  /// A keyframe already recorded (augment) also gets the patches at its stations, between this pose
+  /// and the previous keyframe's pose recorded with it.
   /// @throw std::invalid_argument if the keyframe id exceeds kMaxDrivenKeyframeId.
   std::vector<mesher::PointObservation> samplesOf(const mesher::Keyframe& keyframe) const;
 
@@ -176,7 +183,15 @@ class TrajectoryEvidence {
   /// How many points the drive has contradicted so far.
   std::size_t contradictedCount() const { return contradicted_.size(); }
 
+  /// Samples of one patch (a keyframe carries one patch, plus one per station).
   std::size_t samplesPerKeyframe() const { return layout_B_m_.size(); }
+  /// Most stations one keyframe can carry: the id range of its samples holds this many patches
+  /// besides its own.
+  std::size_t maxStationsPerKeyframe() const { return kMaxDrivenSamplesPerKeyframe / layout_B_m_.size() - 1; }
+  /// The patch layout's extent along the driving direction, metres.
+  double patchLengthM() const { return patch_length_m_; }
+  /// How many stations a keyframe this far (metres) from the one before it gets.
+  std::size_t stationsFor(double gap_m) const;
   /// The sample layout in the base frame B (x forward, y left, z up; metres).
   const std::vector<Eigen::Vector3d>& layoutB() const { return layout_B_m_; }
 
@@ -185,8 +200,15 @@ class TrajectoryEvidence {
     Eigen::Vector3d position_W = Eigen::Vector3d::Zero();
     Eigen::Quaterniond rotation_W_C = Eigen::Quaterniond::Identity();
     std::uint64_t order = 0;  ///< when it was first sent
+    /// Stations between the previous keyframe's pose (as it was when this one was last sent) and
+    /// this one; fixed when the keyframe is first sent.
+    std::size_t stations = 0;
+    Eigen::Vector3d previous_position_W = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond previous_rotation_W_C = Eigen::Quaterniond::Identity();
   };
   std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
+  /// The pose at `station` (0: the keyframe's own; 1..stations from the previous pose on).
+  Pose stationPose(const Pose& pose, std::size_t station) const;
   /// The robot base frame B at a keyframe's pose (map units).
   Eigen::Isometry3d baseAt(const Pose& pose) const;
   /// Whether p_W lies inside the robot's body with its base at T_W_B.
@@ -203,6 +225,7 @@ class TrajectoryEvidence {
   std::vector<Eigen::Vector3d> layout_B_m_;
   /// The body: footprint (disc radius or rectangle half-extents) and height band, metres.
   bool disc_ = true;
+  double patch_length_m_ = 0;  ///< the layout's extent along x, metres
   double radius_m_ = 0, half_length_m_ = 0, half_width_m_ = 0, body_low_m_ = 0, body_high_m_ = 0;
   std::unordered_set<std::uint64_t> contradicted_;
   std::vector<mesher::PointId> newly_contradicted_;
