@@ -44,6 +44,11 @@ void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& opti
                  "with --robot: height of the sensor above the ground contact plane, metres (overrides the profile's "
                  "sensor_height_m and the estimate from the data)")
       ->check(positiveNumber());
+  app.add_option("--station-spacing-m", options.station_spacing_m,
+                 "with --robot: driven-ground patches between keyframes at most this far apart along the path, "
+                 "metres (0: only under the keyframes)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 100.0));
 }
 
 TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenceOptions& options,
@@ -55,7 +60,8 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   }
   TrajectoryEvidenceRun run;
   if (!session || options.off) return run;
-  const traversability::TrajectoryEvidenceConfig config;
+  traversability::TrajectoryEvidenceConfig config;
+  config.station_spacing_m = options.station_spacing_m;
   const traversability::RobotProfile& profile = session->profile();
   const traversability::MapFrame& frame = session->frame();
   std::vector<Eigen::Vector3d> sensors_W, points_W;
@@ -72,6 +78,7 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
       std::abs(stream.sensor_up_S.normalized().z()) > 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
   run.evidence_.emplace(profile, frame.up_W, frame.metres_per_unit, decision.sensor_height_m, forward_S, config);
   run.sensor_height_m_ = decision.sensor_height_m;
+  run.station_spacing_m_ = config.station_spacing_m;
   std::ostringstream patches;
   patches << "; patches of " << run.evidence_->samplesPerKeyframe() << " driven-ground samples under each keyframe";
   if (config.station_spacing_m > 0) {
@@ -124,7 +131,8 @@ std::string TrajectoryEvidenceRun::settings() const {
   if (!evidence_) return "off";
   std::ostringstream text;
   text.precision(17);
-  text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe();
+  text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe()
+       << " station_spacing_m=" << station_spacing_m_;
   return text.str();
 }
 

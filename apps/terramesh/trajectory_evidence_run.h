@@ -20,6 +20,8 @@ namespace terramesh::cli {
 struct TrajectoryEvidenceOptions {
   bool off = false;
   std::optional<double> sensor_height_m;
+  /// TrajectoryEvidenceConfig::station_spacing_m (0: no stations between keyframes).
+  double station_spacing_m = traversability::TrajectoryEvidenceConfig{}.station_spacing_m;
 };
 /// Adds the options to `app`, filling `options`.
 void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& options);
@@ -53,6 +55,7 @@ class TrajectoryEvidenceRun {
  private:
   std::optional<traversability::TrajectoryEvidence> evidence_;
   double sensor_height_m_ = 0;
+  double station_spacing_m_ = 0;
   std::string summary_;
   std::optional<std::string> warning_;
 };

@@ -54,6 +54,8 @@ struct CellInfo {
   /// ... of which spread votes to the neighbours: all but those ending in this cell (the apex of
   /// the inverse cone, incident to the ray's point).
   std::uint32_t spreading = 0;
+  /// ... of which end at a driven-ground sample (the robot's body volume): see MapState::isFree.
+  std::uint32_t driven_crossings = 0;
   /// Unique stamp given at creation; validates handles kept across topology changes.
   std::uint32_t uid = 0;
   /// Slot of this cell's ray list in RayStore, kNone if no ray crosses it.

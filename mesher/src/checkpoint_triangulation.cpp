@@ -56,6 +56,7 @@ void writeCellInfo(ByteWriter& out, const CellInfo& info) {
   out.pod(info.weight);
   out.u32(info.crossings);
   out.u32(info.spreading);
+  out.u32(info.driven_crossings);
   out.u32(info.uid);
   out.u32(info.ray_list);
   out.u8(info.flags);
@@ -66,6 +67,7 @@ void readCellInfo(ByteReader& in, CellInfo& info) {
   info.weight = in.pod<std::int32_t>();
   info.crossings = in.u32();
   info.spreading = in.u32();
+  info.driven_crossings = in.u32();
   info.uid = in.u32();
   info.ray_list = in.u32();
   info.flags = in.u8();

@@ -32,6 +32,7 @@ InvariantReport Mesher::Impl::checkInvariants() const {
 
   // Crossing counts and paths recomputed from scratch over every stored ray.
   std::unordered_map<const internal::Delaunay::Cell*, std::uint32_t> crossings;
+  std::unordered_map<const internal::Delaunay::Cell*, std::uint32_t> driven_crossings;
   std::unordered_map<const internal::Delaunay::Cell*, std::uint32_t> spreading;
   std::unordered_map<const internal::Delaunay::Cell*, std::vector<internal::RayId>> lists;
   internal::RayWalker walker(tri, false);
@@ -61,6 +62,7 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     for (std::size_t i = 0; i < ray.path.size(); ++i) {
       const CellHandle& cell = ray.path[i];
       ++crossings[&*cell];
+      if (point.kind == PointKind::kDrivenGround) ++driven_crossings[&*cell];
       if (i + 1 < ray.path.size()) ++spreading[&*cell];
       lists[&*cell].push_back(id);
     }
@@ -78,6 +80,11 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     if (info.crossings != expected) {
       fail("cell " + std::to_string(info.uid) + ": crossings " + std::to_string(info.crossings) +
            " but " + std::to_string(expected) + " stored rays cross it");
+    }
+    const auto driven = driven_crossings.find(&*cell);
+    if (info.driven_crossings != (driven == driven_crossings.end() ? 0 : driven->second)) {
+      fail("cell " + std::to_string(info.uid) + ": driven crossings " + std::to_string(info.driven_crossings) +
+           " do not match the stored rays to driven-ground samples");
     }
     const auto spread = spreading.find(&*cell);
     const std::uint32_t expected_spread = spread == spreading.end() ? 0 : spread->second;

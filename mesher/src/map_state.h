@@ -47,13 +47,14 @@ struct MapState {
   /// A fresh value for VertexInfo::mark, distinct from every mark currently stored.
   std::uint32_t nextVertexMark() { return epochs.nextVertexMark(); }
 
-  /// Whether `cell` is free space: its weight is above the threshold, or, over driven ground, any
-  /// ray crosses it (the robot's body passed there); and it does not lie under driven ground
-  /// (MesherConfig::driven_ground_up_W). A function of the cell's rays and vertices only.
+  /// Whether `cell` is free space: its weight is above the threshold, or, over driven ground, a
+  /// ray to a driven-ground sample crosses it (the robot's body passed there); and it does not lie
+  /// under driven ground (MesherConfig::driven_ground_up_W). A function of the cell's rays and
+  /// vertices only.
   bool isFree(const CellHandle& cell) const {
     const int side = drivenGroundSide(cell);
     if (side < 0) return false;
-    return weights.isFree(cell) || (side > 0 && cell->info().crossings > 0);
+    return weights.isFree(cell) || (side > 0 && cell->info().driven_crossings > 0);
   }
 
   /// Where `cell` lies relative to the driven-ground vertices among its corners, judged by its

@@ -23,16 +23,22 @@ void VisibilityTracer::applyChanges() {
   changed_.clear();
 }
 
+bool VisibilityTracer::drivenRay(const Ray& ray) const {
+  return state_.registry.point(ray.point).kind == PointKind::kDrivenGround;
+}
+
 void VisibilityTracer::withdrawSuffix(Ray& ray, std::size_t from, std::uint32_t mark) {
   // In a complete path the last cell (the cone's apex) does not spread; in a partial one every
   // cell does (the ray goes on beyond it).
   const bool complete = !(ray.flags & kRayPartial);
+  const bool driven = drivenRay(ray);
   const std::size_t size = ray.path.size();
   for (std::size_t i = from; i < size; ++i) {
     const CellHandle& cell = ray.path[i];
     noteChange(cell, mark);
     assert(cell->info().crossings > 0);
     --cell->info().crossings;
+    if (driven) --cell->info().driven_crossings;
     if (!complete || i + 1 < size) --cell->info().spreading;
   }
 }
@@ -82,11 +88,13 @@ void VisibilityTracer::truncateAtDoomed(const std::vector<RayId>& batch, std::ui
 void VisibilityTracer::addVotes(RayId id, std::size_t from, std::uint32_t mark) {
   // `mark` is the batch's: each cell's counts before the batch are recorded once.
   Ray& ray = state_.rays[id];
+  const bool driven = drivenRay(ray);
   const std::size_t size = ray.path.size();
   for (std::size_t i = from; i < size; ++i) {
     const CellHandle& cell = ray.path[i];
     noteChange(cell, mark);
     ++cell->info().crossings;
+    if (driven) ++cell->info().driven_crossings;
     if (i + 1 < size) ++cell->info().spreading;  // the last cell is the cone's apex
   }
   // The old last cell of a resumed prefix already counted as spreading.

@@ -41,6 +41,8 @@ class VisibilityTracer {
   void applyChanges();
   /// Withdraws the votes of path[from, end) of a ray (flagged kRayMarked for list removal).
   void withdrawSuffix(Ray& ray, std::size_t from, std::uint32_t mark);
+  /// Whether the ray ends at a driven-ground sample (its crossings count as driven_crossings).
+  bool drivenRay(const Ray& ray) const;
   /// Votes for path[from, end) of a ray; `complete` when the path now ends at the point.
   void addVotes(RayId id, std::size_t from, std::uint32_t mark);
 

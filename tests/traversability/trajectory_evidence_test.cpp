@@ -294,6 +294,22 @@ TEST(SensorHeightEstimateTest, DrivenDroneAndHandheldTrajectories) {
   EXPECT_TRUE(decideTrajectoryEvidence(estimate, 1.65, std::nullopt, config).enabled);
 }
 
+TEST(SensorHeightEstimateTest, AnUpperGarageLevelIsTheGroundNotTheLevelBelowIt) {
+  // The sensor 1.5 m above a floor; 3.1 m under that floor, a level below with twice as many
+  // points (seen through the ramp openings). The lower envelope of all the depths would take the
+  // level below for the ground, and its spread would turn the evidence off.
+  const TrajectoryEvidenceConfig config;
+  std::vector<Eigen::Vector3d> sensors, points;
+  plane(60, [](int) { return 1.5; }, sensors, points);
+  const std::vector<Eigen::Vector3d> floor = points;
+  for (int copy = 1; copy <= 2; ++copy) {
+    for (const Eigen::Vector3d& p : floor) points.push_back(p + Eigen::Vector3d(0.01 * copy, 0, -3.1));
+  }
+  const SensorHeightEstimate estimate = estimateSensorHeight(sensors, points, Eigen::Vector3d::UnitZ(), 1.0, config);
+  EXPECT_EQ(estimate.status, SensorHeightEstimate::Status::kDriven) << estimate.reason;
+  EXPECT_NEAR(estimate.height_m, 1.5, 0.02);
+}
+
 TEST(SensorHeightEstimateTest, AGivenHeightThatDisagreesWarnsNamingBothValues) {
   const TrajectoryEvidenceConfig config;
   std::vector<Eigen::Vector3d> sensors, points;

@@ -106,6 +106,26 @@ class HorizontalGrid {
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
 };
 
+/// Keeps, of the depths beneath one sensor, the nearest layer that holds min_points_per_keyframe
+/// of them: depths sorted and split where consecutive ones are more than layer_gap_m apart (a
+/// floor of a multi-storey garage hides the levels below it; they are not the ground under the
+/// path). Objects beside the path lie within the ground's layer. Empty if no layer holds enough.
+void keepNearestLayer(std::vector<double>& depths, const TrajectoryEvidenceConfig& config) {
+  std::sort(depths.begin(), depths.end());
+  const auto needed = static_cast<std::size_t>(config.min_points_per_keyframe);
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i <= depths.size(); ++i) {
+    if (i < depths.size() && depths[i] - depths[i - 1] <= config.layer_gap_m) continue;
+    if (i - begin >= needed) {
+      depths.erase(depths.begin() + static_cast<std::ptrdiff_t>(i), depths.end());
+      depths.erase(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(begin));
+      return;
+    }
+    begin = i;
+  }
+  depths.clear();
+}
+
 /// The contact patch layout in the base frame (metres): a grid over the rectangle, or the centre
 /// and a ring for a disc, at most `spacing` apart.
 std::vector<Eigen::Vector3d> patchLayout(const RobotProfile& profile, const TrajectoryEvidenceConfig& config) {
@@ -149,6 +169,7 @@ void TrajectoryEvidenceConfig::validate() const {
   require(max_sweep_distance_m >= 0 && max_sweep_distance_m <= 1000, "max_sweep_distance_m", max_sweep_distance_m,
           "[0, 1000]");
   require(station_spacing_m >= 0 && station_spacing_m <= 100, "station_spacing_m", station_spacing_m, "[0, 100]");
+  require(layer_gap_m > 0 && layer_gap_m <= 100, "layer_gap_m", layer_gap_m, "(0, 100]");
   require(estimate_radius_m > 0 && estimate_radius_m <= 100, "estimate_radius_m", estimate_radius_m, "(0, 100]");
   require(min_depth_below_m >= 0 && min_depth_below_m <= 100, "min_depth_below_m", min_depth_below_m, "[0, 100]");
   require(min_points_per_keyframe >= 1, "min_points_per_keyframe", min_points_per_keyframe, "an integer >= 1");
@@ -189,6 +210,8 @@ SensorHeightEstimate estimateSensorHeight(const std::vector<Eigen::Vector3d>& se
       const double depth_m = (sensor - p).dot(up_W) * metres_per_unit;
       if (depth_m >= config.min_depth_below_m && (plane.project(p) - at).norm() <= radius) depths.push_back(depth_m);
     });
+    if (depths.size() < static_cast<std::size_t>(config.min_points_per_keyframe)) continue;
+    keepNearestLayer(depths, config);
     if (depths.size() < static_cast<std::size_t>(config.min_points_per_keyframe)) continue;
     const double envelope = quantile(depths, config.envelope_quantile);
     depths.erase(std::remove_if(depths.begin(), depths.end(),

@@ -54,6 +54,9 @@ struct TrajectoryEvidenceConfig {
   double estimate_radius_m = 2.0;
   /// ... and at least this far below the sensor along up (nearer ones are not ground).
   double min_depth_below_m = 0.2;
+  /// Depths beneath a sensor further apart than this split into layers; only the nearest layer
+  /// with enough points is the ground (the levels under a garage floor are not).
+  double layer_gap_m = 1.0;
   /// A keyframe needs this many points beneath it to give a height.
   int min_points_per_keyframe = 3;
   /// The lower envelope of a keyframe's points beneath: this quantile of their depths (the ground
