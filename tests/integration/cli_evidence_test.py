@@ -95,6 +95,21 @@ class EvidenceTest(unittest.TestCase):
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertTrue(filecmp.cmp(os.path.join(out, "mesh.ply"), os.path.join(other, "mesh.ply"), shallow=False))
 
+    def test_stations_between_keyframes_add_driven_ground_and_can_be_turned_off(self):
+        robot = os.path.join(ROBOTS, "small_wheeled.yaml")
+        with_stations, summary, _ = self.mesh("stations", "--robot", robot)
+        without, summary_off, _ = self.mesh("no_stations", "--robot", robot, "--station-spacing-m", "0")
+        self.assertIn("at stations at most 0.5 m apart between keyframes", summary)
+        self.assertNotIn("at stations", summary_off)
+        vertices = [int(re.search(r"element vertex (\d+)", ply_header(os.path.join(d, "mesh.ply"))).group(1))
+                    for d in (with_stations, without)]
+        # The generated street's keyframes are about 2 m apart: 3-4 stations of 4 samples each.
+        self.assertGreater(vertices[0], vertices[1] + 100)
+        result = run("mesh", self.stream, "-o", os.path.join(self.dir, "bad_spacing"), "--robot", robot,
+                     "--station-spacing-m", "-1")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("--station-spacing-m", result.stderr)
+
     def test_sensor_height_without_robot_is_a_usage_error(self):
         result = run("mesh", self.stream, "-o", os.path.join(self.dir, "bad"), "--sensor-height-m", "1.2")
         self.assertEqual(result.returncode, 2, result.stderr)
