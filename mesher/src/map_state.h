@@ -62,21 +62,23 @@ struct MapState {
   /// 0 with none (or when up is not given, or the cell is infinite).
   int drivenGroundSide(const CellHandle& cell) const {
     if (config.driven_ground_up_W.isZero(0) || tri.is_infinite(cell)) return 0;
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    // Most cells have no driven corner: find them before computing anything (a hot path).
+    int driven[4];
+    int count = 0;
     for (int i = 0; i < 4; ++i) {
+      const std::uint32_t point = cell->vertex(i)->info().point;
+      if (point != kNone && registry.point(point).kind == PointKind::kDrivenGround) driven[count++] = i;
+    }
+    if (count == 0) return 0;
+    const auto position = [&](int i) {
       const Point& p = cell->vertex(i)->point();
-      centroid += Eigen::Vector3d(p.x(), p.y(), p.z());
+      return Eigen::Vector3d(p.x(), p.y(), p.z());
+    };
+    const Eigen::Vector3d centroid = 0.25 * (position(0) + position(1) + position(2) + position(3));
+    for (int k = 0; k < count; ++k) {
+      if ((centroid - position(driven[k])).dot(config.driven_ground_up_W) < 0) return -1;
     }
-    centroid *= 0.25;
-    int side = 0;
-    for (int i = 0; i < 4; ++i) {
-      const VertexHandle v = cell->vertex(i);
-      if (v->info().point == kNone || registry.point(v->info().point).kind != PointKind::kDrivenGround) continue;
-      const Point& p = v->point();
-      if ((centroid - Eigen::Vector3d(p.x(), p.y(), p.z())).dot(config.driven_ground_up_W) < 0) return -1;
-      side = 1;
-    }
-    return side;
+    return 1;
   }
 
   /// Gives a new unique stamp to a freshly created cell.
