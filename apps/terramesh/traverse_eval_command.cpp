@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -21,6 +22,7 @@
 #include "evaluation/road_under_path.h"
 #include "evaluation/robot_limits.h"
 #include "evaluation/traversability_score.h"
+#include "ground_truth_check.h"
 #include "traversability/map_directory.h"
 
 namespace terramesh::cli {
@@ -30,6 +32,7 @@ namespace {
 struct TraverseEvalOptions {
   std::string map_dir;
   std::optional<std::string> gt_mesh, gt_up, sim3, road_under_path, report;
+  std::vector<std::string> paths;
   double max_distance_m = 0.5;
   double gt_max_edge_m = 0.25;
   double sample_edge_m = 0.25;
@@ -64,6 +67,10 @@ void declareOptions(CLI::App& app, TraverseEvalOptions& o) {
       ->check(non_negative);
   app.add_option("--height-tolerance-m", o.height_tolerance_m, "with --road-under-path: ... and within H +- T below it")
       ->check(non_negative);
+  app.add_option("--path", o.paths,
+                 "with --gt-mesh: also check these planned paths (path.csv of terramesh plan, map frame) against "
+                 "the truth with planner_demo's strict check")
+      ->option_text("FILE ...");
   app.add_option("--report", o.report, "also write the report to FILE (atomically)")->option_text("FILE");
   app.add_flag("--quiet", o.quiet, "print nothing but errors");
 }
@@ -128,6 +135,57 @@ std::vector<std::uint8_t> lethalCauses(const traversability::LayeredMesh& map,
   return groups;
 }
 
+/// The x, y, z columns of a path.csv (terramesh plan): a header line naming x, y and z first, then
+/// one finite point per line.
+/// @throw InputError naming the file and line.
+std::vector<Eigen::Vector3d> readPathCsv(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file, "file", "cannot open the path");
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("x,y,z", 0) != 0) {
+    throw InputError(file, lineLocation(1), "expected the header x,y,z,... of terramesh plan's path.csv");
+  }
+  std::vector<Eigen::Vector3d> path;
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    Eigen::Vector3d p;
+    char a = 0, b = 0;
+    std::istringstream fields(line);
+    if (!(fields >> p.x() >> a >> p.y() >> b >> p.z()) || a != ',' || b != ',' || !p.allFinite()) {
+      throw InputError(file, lineLocation(number), "expected x,y,z as three finite numbers, got \"" + line + "\"");
+    }
+    path.push_back(p);
+  }
+  return path;
+}
+
+/// Planned paths against the truth (the map's robot, strict check), in the truth's frame: per path,
+/// "path_valid FILE 0|1", "path_max_ground_offset_m FILE M" and "path_reason FILE TEXT".
+void checkPaths(const std::vector<std::string>& files, const datasets::SimilarityTransform* sim3,
+                const datasets::LabeledMesh& truth, const Eigen::Vector3d& up,
+                const traversability::RobotProfile& profile, std::ostream& report) {
+  planning::demo::TruthCheckConfig config;
+  config.footprint_radius_m = profile.footprintCircumradiusM();
+  config.max_step_m = profile.max_step_m;
+  config.min_clearance_m = profile.min_clearance_m;
+  config.max_slope_deg = profile.max_slope_deg;
+  const datasets::TriangleBvh bvh(truth.mesh);
+  const planning::demo::TruthChecker checker(truth, bvh);
+  std::size_t valid = 0;
+  for (const std::string& file : files) {
+    std::vector<Eigen::Vector3d> path = readPathCsv(file);
+    if (sim3) {
+      for (Eigen::Vector3d& p : path) p = sim3->apply(p);
+    }
+    const planning::demo::TruthCheck check = checker.check(path, up, 1.0, config);
+    valid += check.valid ? 1 : 0;
+    report << "path_valid " << file << ' ' << (check.valid ? 1 : 0) << '\n'
+           << "path_max_ground_offset_m " << file << ' ' << fixed(check.max_ground_offset_m, 3) << '\n'
+           << "path_reason " << file << ' ' << (check.reason.empty() ? "-" : check.reason) << '\n';
+  }
+  report << "paths_checked " << files.size() << '\n' << "paths_valid " << valid << '\n';
+}
+
 /// The map against a labelled ground-truth mesh.
 void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::LayeredMesh map,
                          const traversability::RobotProfile& profile, std::ostream& report) {
@@ -135,8 +193,10 @@ void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::Lay
   const std::string& truth_path = *options.gt_mesh;
   const datasets::LabeledMesh truth = datasets::readLabeledPly(truth_path);
   if (truth.mesh.faces.empty()) throw InputError(truth_path, "faces", "the ground truth has no faces");
+  std::optional<datasets::SimilarityTransform> sim3;
   if (options.sim3) {
-    map.mesh = datasets::readSimilarityTransform(*options.sim3).apply(map.mesh);
+    sim3 = datasets::readSimilarityTransform(*options.sim3);
+    map.mesh = sim3->apply(map.mesh);
   } else if (std::abs(map.metres_per_unit - 1.0) > 1e-9) {
     throw UsageError("traverse-eval: the map is not metric (metres_per_unit " + fixed(map.metres_per_unit, 6) +
                      "); give --sim3 FILE to bring it into the truth's frame");
@@ -203,6 +263,7 @@ void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::Lay
     reportAreas(report, "reason_" + std::string(evaluation::toString(static_cast<evaluation::TruthReason>(r))),
                 score.by_reason[r]);
   }
+  if (!options.paths.empty()) checkPaths(options.paths, sim3 ? &*sim3 : nullptr, truth, up, profile, report);
 }
 
 /// The keyframe centres and rotations of a stream, by keyframe id (the last pose sent for each;
@@ -272,13 +333,16 @@ int runTraverseEval(const std::vector<std::string>& args) {
                  "With --road-under-path: the free / lethal / unknown / uncertain shares of the map surface "
                  "within --lateral-m of the keyframe path and --camera-height-m below it (metres via the map's "
                  "metres_per_unit; up from the keyframes' orientations); with --gt-mesh too, also how far the "
-                 "free part lies from the truth (median and 90th percentile).");
+                 "free part lies from the truth (median and 90th percentile).\n"
+                 "With --path (and --gt-mesh): per path, path_valid FILE 1 if it passes planner_demo's strict "
+                 "ground-truth check for the map's robot, else 0 and path_reason FILE the first failure.");
   TraverseEvalOptions options;
   declareOptions(app, options);
   if (!parseCommandLine(app, args)) return kExitOk;
   const bool truth_mode = options.gt_mesh.has_value();
   const bool road_mode = options.road_under_path.has_value();
   if (!truth_mode && !road_mode) throw UsageError("traverse-eval: give --gt-mesh, --road-under-path or both");
+  if (!options.paths.empty() && !truth_mode) throw UsageError("traverse-eval: --path needs --gt-mesh (the truth to check it on)");
   if (truth_mode && road_mode && options.sim3) {
     throw UsageError("traverse-eval: --road-under-path with --gt-mesh needs the map in the truth's frame (no --sim3)");
   }

@@ -103,7 +103,7 @@ class EvidenceTest(unittest.TestCase):
         self.assertNotIn("at stations", summary_off)
         vertices = [int(re.search(r"element vertex (\d+)", ply_header(os.path.join(d, "mesh.ply"))).group(1))
                     for d in (with_stations, without)]
-        # The generated street's keyframes are about 2 m apart: 3-4 stations of 4 samples each.
+        # The generated street's keyframes are about 2 m apart: 3-4 stations of 3 samples each.
         self.assertGreater(vertices[0], vertices[1] + 100)
         result = run("mesh", self.stream, "-o", os.path.join(self.dir, "bad_spacing"), "--robot", robot,
                      "--station-spacing-m", "-1")

@@ -193,6 +193,39 @@ class StreetTest(TempDirCase):
                                                  "so the classes must agree")
         self.assert_map_directory(offline, offline_levels)
 
+        # traverse-eval --path checks paths on the truth: the road 1.65 m under the generator's
+        # camera path is drivable; the same line 1 m up is not on the ground; a malformed file exits 2.
+        data = os.path.dirname(stream)
+        road, lifted = self.path("road.csv"), self.path("lifted.csv")
+        with open(os.path.join(data, "trajectory.txt")) as f:
+            poses = [[float(v) for v in line.split()] for line in f if line.strip()]
+        for name, lift in [(road, 0.0), (lifted, 1.0)]:
+            with open(name, "w") as f:
+                f.write("x,y,z,yaw,face,cost\n")
+                for pose in poses[2:-2]:
+                    f.write(f"{pose[3]},{pose[7]},{pose[11] - 1.65 + lift},0,0,0\n")
+        report = self.path("check.txt")
+        result = run("traverse-eval", out, "--gt-mesh", os.path.join(data, "ground_truth.ply"), "--path", road, lifted,
+                     "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(report) as f:
+            lines = [line.split(" ", 2) for line in f.read().splitlines()]
+        valid = {words[1]: words[2] for words in lines if words[0] == "path_valid"}
+        reasons = {words[1]: words[2] for words in lines if words[0] == "path_reason"}
+        self.assertEqual(valid, {road: "1", lifted: "0"}, reasons)
+        self.assertIn("1.000 m above the true", reasons[lifted])
+        self.assertIn(["paths_valid", "1"], [w[:2] for w in lines])
+        with open(road, "a") as f:
+            f.write("1.0,2.0\n")
+        result = run("traverse-eval", out, "--gt-mesh", os.path.join(data, "ground_truth.ply"), "--path", road,
+                     "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("road.csv", result.stderr)
+        self.assertIn(f"line {len(poses) - 4 + 2}", result.stderr)
+        result = run("traverse-eval", out, "--road-under-path", stream, "--path", lifted, "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("--path needs --gt-mesh", result.stderr)
+
 
 class GarageTest(TempDirCase):
     def test_two_floors_give_two_levels(self):

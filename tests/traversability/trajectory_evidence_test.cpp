@@ -95,8 +95,9 @@ TEST(DrivenSamplesTest, DiscPatchLiesAtTheSensorHeightBelowTheSensorWithReserved
   TrajectoryEvidence evidence(discRobot(0.34), Eigen::Vector3d::UnitZ(), 1.0, 1.65, Eigen::Vector3d::UnitZ(), config);
   const mesher::Keyframe keyframe = cameraAt(7, {10, 5, 2.0});
   const std::vector<mesher::PointObservation> samples = evidence.samplesOf(keyframe);
-  ASSERT_GE(samples.size(), 4u);
-  ASSERT_LE(samples.size(), 8u);  // a handful
+  // The disc's diameter across the heading: its centre and both edges of the full footprint.
+  ASSERT_EQ(samples.size(), 3u);
+  std::vector<double> offsets;
   std::set<std::uint64_t> ids;
   for (const mesher::PointObservation& sample : samples) {
     EXPECT_EQ(sample.kind, mesher::PointKind::kDrivenGround);
@@ -105,7 +106,13 @@ TEST(DrivenSamplesTest, DiscPatchLiesAtTheSensorHeightBelowTheSensorWithReserved
     ids.insert(sample.point.value);
     EXPECT_NEAR(sample.position_W.z(), 2.0 - 1.65, 1e-12);
     EXPECT_LE((sample.position_W - Eigen::Vector3d(10, 5, 0.35)).norm(), 0.34 + 1e-12);
+    offsets.push_back((sample.position_W - Eigen::Vector3d(10, 5, 0.35)).norm());
   }
+  std::sort(offsets.begin(), offsets.end());
+  EXPECT_NEAR(offsets[0], 0.0, 1e-12);
+  EXPECT_NEAR(offsets[1], 0.34, 1e-12);
+  EXPECT_NEAR(offsets[2], 0.34, 1e-12);
+  EXPECT_NEAR((samples[0].position_W - samples[2].position_W).norm(), 0.68, 1e-12) << "on opposite sides";
   EXPECT_EQ(ids.size(), samples.size());
 }
 
@@ -122,15 +129,18 @@ TEST(DrivenSamplesTest, RectanglePatchFollowsTheHeadingAndTheFullMounting) {
   TrajectoryEvidence evidence(car, Eigen::Vector3d::UnitZ(), 1.0, 1.65, Eigen::Vector3d::UnitZ(), config);
   const std::vector<mesher::PointObservation> samples = evidence.samplesOf(cameraAt(1, {0, 0, 1.65}));
   ASSERT_EQ(samples.size(), evidence.samplesPerKeyframe());
-  EXPECT_LE(samples.size(), 12u);
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  // The width across the heading (+x) through the footprint's centre, out to both sides.
+  ASSERT_EQ(samples.size(), 3u);
+  std::vector<double> lateral;
   for (const mesher::PointObservation& sample : samples) {
-    centre += sample.position_W / static_cast<double>(samples.size());
     EXPECT_NEAR(sample.position_W.z(), 0.0, 1e-12);
-    EXPECT_LE(std::abs(sample.position_W.x() + 1.2), 2.4 + 1e-9);  // length along the heading (+x)
-    EXPECT_LE(std::abs(sample.position_W.y()), 0.9 + 1e-9);
+    EXPECT_NEAR(sample.position_W.x(), -1.2, 1e-9);
+    lateral.push_back(sample.position_W.y());
   }
-  EXPECT_NEAR(centre.x(), -1.2, 1e-9);
+  std::sort(lateral.begin(), lateral.end());
+  EXPECT_NEAR(lateral[0], -0.9, 1e-9);
+  EXPECT_NEAR(lateral[1], 0.0, 1e-9);
+  EXPECT_NEAR(lateral[2], 0.9, 1e-9);
 }
 
 TEST(DrivenSamplesTest, ReservedIdsAndHugeKeyframeIdsAreRefused) {
@@ -145,8 +155,8 @@ TEST(DrivenSamplesTest, ReservedIdsAndHugeKeyframeIdsAreRefused) {
 TEST(DrivenSamplesTest, KeyframesObserveThePreviousPatchAndRemovalReturnsTheSamples) {
   TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
   const std::size_t n = evidence.samplesPerKeyframe();
-  // The patch (centre and a ring of radius 0.24 m) is 0.36 m long: stations every 0.5 m.
-  ASSERT_NEAR(evidence.patchLengthM(), 0.36, 1e-12);
+  // The patch (the disc's diameter across the heading) has no length: stations every 0.5 m.
+  ASSERT_NEAR(evidence.patchLengthM(), 0.0, 1e-12);
   EXPECT_EQ(evidence.stationsFor(0.4), 0u);
   EXPECT_EQ(evidence.stationsFor(2.0), 3u);
   EXPECT_EQ(evidence.stationsFor(1e6), evidence.maxStationsPerKeyframe());

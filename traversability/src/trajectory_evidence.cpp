@@ -13,7 +13,6 @@
 namespace terramesh::traversability {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// MAD to standard deviation for Gaussian data.
 constexpr double kMadToSigma = 1.4826;
 
@@ -126,31 +125,19 @@ void keepNearestLayer(std::vector<double>& depths, const TrajectoryEvidenceConfi
   depths.clear();
 }
 
-/// The contact patch layout in the base frame (metres): a grid over the rectangle, or the centre
-/// and a ring for a disc, at most `spacing` apart.
+/// The contact patch layout in the base frame (metres): the footprint's cross-section across the
+/// heading through its centre (a disc's diameter, a rectangle's width), samples at most `spacing`
+/// apart out to both edges. Patches along the path then form a ladder whose rails are the swept
+/// footprint's edges. A ring would leave a notch between neighbouring stations that closing
+/// geometry from beside the path reaches into; a grid over a long rectangle puts the rows of
+/// overlapping patches nearly on top of each other, at heights that differ by the poses' noise.
 std::vector<Eigen::Vector3d> patchLayout(const RobotProfile& profile, const TrajectoryEvidenceConfig& config) {
+  const double half_width = config.patch_fraction * (profile.footprint == FootprintShape::kDisc
+                                                         ? profile.footprint_radius_m
+                                                         : 0.5 * profile.footprint_width_m);
+  const int half = std::max(1, static_cast<int>(std::ceil(half_width / config.sample_spacing_m)));
   std::vector<Eigen::Vector3d> layout;
-  const double spacing = config.sample_spacing_m;
-  if (profile.footprint == FootprintShape::kDisc) {
-    const double radius = config.patch_fraction * profile.footprint_radius_m;
-    layout.emplace_back(0, 0, 0);
-    const int ring = std::max(3, static_cast<int>(std::ceil(2 * kPi * radius / spacing)));
-    for (int i = 0; i < ring; ++i) {
-      const double angle = 2 * kPi * i / ring;
-      layout.emplace_back(radius * std::cos(angle), radius * std::sin(angle), 0);
-    }
-    return layout;
-  }
-  const double length = config.patch_fraction * profile.footprint_length_m;
-  const double width = config.patch_fraction * profile.footprint_width_m;
-  const int nx = static_cast<int>(std::ceil(length / spacing)) + 1;
-  const int ny = static_cast<int>(std::ceil(width / spacing)) + 1;
-  for (int i = 0; i < nx; ++i) {
-    for (int j = 0; j < ny; ++j) {
-      layout.emplace_back(length * (static_cast<double>(i) / (nx - 1) - 0.5),
-                          width * (static_cast<double>(j) / (ny - 1) - 0.5), 0);
-    }
-  }
+  for (int i = -half; i <= half; ++i) layout.emplace_back(0, half_width * i / half, 0);
   return layout;
 }
 

@@ -37,8 +37,9 @@ struct TrajectoryEvidenceConfig {
   // Sampling of the contact patch (the footprint on the ground contact plane).
   /// Largest distance between neighbouring samples of one keyframe's patch.
   double sample_spacing_m = 1.5;
-  /// Samples lie within this fraction of the footprint's half extents (disc: of its radius).
-  double patch_fraction = 0.8;
+  /// Samples lie within this fraction of the footprint's half extents (disc: of its radius); 1:
+  /// the whole footprint was over driven ground.
+  double patch_fraction = 1.0;
   /// Each keyframe also observes the samples of the keyframe sent before it, when their sensor
   /// positions are at most this far apart: those rays sweep the body volume between the two
   /// (0: no sweep).
