@@ -3,7 +3,8 @@
 # (seed 1) and every shipped robot profile (traversability/robots/*.yaml), generates the scene,
 # meshes it with traversability layers (`terramesh mesh --robot`), scores the map against the
 # generator's labelled ground truth (`terramesh traverse-eval --gt-mesh`) and prints a markdown
-# table; then the road under the camera path on real KITTI 00 (ORB-SLAM, 16.589 m per unit).
+# table; then the road under the camera path on real KITTI 00 (ORB-SLAM, 16.589 m per unit), and the
+# swept footprint there against the Velodyne ground.
 # Expects a Release build in build/ (or TERRAMESH_BUILD=dir) and ../shared/ beside the
 # repository. Writes under out/traversability_f1/ (or TERRAMESH_F1_OUT); with TERRAMESH_REUSE=1,
 # scenes and maps already there are not made again (only scored). TERRAMESH_F1_SCENES and
@@ -153,4 +154,27 @@ for robot_file in "${robots[@]}"; do
         v["road_unknown_fraction"], v["road_uncertain_fraction"],
         v["road_free_m2"] + v["road_lethal_m2"] + v["road_unknown_m2"] + v["road_uncertain_m2"], v["path_length_m"]
     }' "$out/kitti00_$robot.txt"
+done
+
+# KITTI 00 against the LiDAR ground: the Velodyne returns of frames 1-10 (merged, in the KITTI
+# ground-truth frame; ICP similarity to the ORB-SLAM map) within the robot's half-width of the path
+# and 1.65 m +- 0.5 m below it are the true road; each takes the map face straight above or below.
+lidar=$shared/data/kitti00_lidar
+echo
+echo "## KITTI 00: the swept footprint against the LiDAR ground (Velodyne frames 1-10)"
+echo
+echo "| robot | half-width m | LiDAR points | path covered m | free | lethal | unknown | uncertain | no surface | free: height median m | p90 m |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
+for robot_file in "${robots[@]}"; do
+  robot=$(basename "$robot_file" .yaml)
+  half=$(half_width "$robot_file")
+  "$terramesh" traverse-eval "$out/kitti00_$robot" --road-under-path "$stream" --lateral-m "$half" \
+    --lidar-ground "$lidar/lidar_gt_frames01-10_cam0world_vox10cm.ply" --lidar-sim3 "$lidar/piazza_sim3_to_gt_icp.txt" \
+    --report "$out/kitti00_${robot}_lidar.txt" --quiet
+  awk -v robot="$robot" -v half="$half" '{ v[$1] = $2 } END {
+      printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", robot, half, v["lidar_ground_points"],
+        v["lidar_covered_path_m"], v["lidar_free_fraction"], v["lidar_lethal_fraction"], v["lidar_unknown_fraction"],
+        v["lidar_uncertain_fraction"], v["lidar_missing_fraction"], v["lidar_free_height_median_m"],
+        v["lidar_free_height_p90_m"]
+    }' "$out/kitti00_${robot}_lidar.txt"
 done

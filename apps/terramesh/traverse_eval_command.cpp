@@ -23,6 +23,7 @@
 #include "evaluation/robot_limits.h"
 #include "evaluation/traversability_score.h"
 #include "ground_truth_check.h"
+#include "mesher/mesh_io.h"
 #include "traversability/map_directory.h"
 
 namespace terramesh::cli {
@@ -31,7 +32,7 @@ namespace {
 /// The parsed command line.
 struct TraverseEvalOptions {
   std::string map_dir;
-  std::optional<std::string> gt_mesh, gt_up, sim3, road_under_path, report;
+  std::optional<std::string> gt_mesh, gt_up, sim3, road_under_path, lidar_ground, lidar_sim3, report;
   std::vector<std::string> paths;
   double max_distance_m = 0.5;
   double gt_max_edge_m = 0.25;
@@ -71,6 +72,14 @@ void declareOptions(CLI::App& app, TraverseEvalOptions& o) {
                  "with --gt-mesh: also check these planned paths (path.csv of terramesh plan, map frame) against "
                  "the truth with planner_demo's strict check")
       ->option_text("FILE ...");
+  app.add_option("--lidar-ground", o.lidar_ground,
+                 "with --road-under-path: measured points (a PLY of LiDAR returns) to check the map under the "
+                 "path against")
+      ->option_text("PLY");
+  app.add_option("--lidar-sim3", o.lidar_sim3,
+                 "with --lidar-ground: the similarity x_lidar = s R x_map + t between the map and the points' frame "
+                 "(default: the same frame)")
+      ->option_text("FILE");
   app.add_option("--report", o.report, "also write the report to FILE (atomically)")->option_text("FILE");
   app.add_flag("--quiet", o.quiet, "print nothing but errors");
 }
@@ -281,6 +290,33 @@ void keyframePath(const datasets::SlamStream& stream, std::vector<Eigen::Vector3
   }
 }
 
+/// The map under the path against measured ground points (--lidar-ground), in the map's frame.
+void reportGroundUnderPath(const TraverseEvalOptions& options, const traversability::LayeredMesh& map,
+                           const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W,
+                           const evaluation::RoadUnderPathConfig& config, std::ostream& report) {
+  const mesher::TriangleMesh cloud = mesher::readMesh(*options.lidar_ground);
+  if (cloud.vertices.empty()) throw InputError(*options.lidar_ground, "vertices", "the point cloud has no points");
+  std::vector<Eigen::Vector3d> ground = cloud.vertices;
+  if (options.lidar_sim3) {
+    // x_lidar = s R x_map + t, so x_map = R^T (x_lidar - t) / s.
+    const datasets::SimilarityTransform to_lidar = datasets::readSimilarityTransform(*options.lidar_sim3);
+    for (Eigen::Vector3d& p : ground) p = to_lidar.rotation.transpose() * (p - to_lidar.translation) / to_lidar.scale;
+  }
+  const evaluation::GroundUnderPath g = evaluation::groundUnderPath(map, path_W, up_W, config, ground);
+  report << "lidar_ground " << *options.lidar_ground << '\n'
+         << "lidar_points " << cloud.vertices.size() << '\n'
+         << "lidar_ground_points " << g.points << '\n'
+         << "lidar_covered_path_m " << fixed(g.covered_path_m, 2) << '\n'
+         << "lidar_free_fraction " << fixed(g.free_fraction) << '\n'
+         << "lidar_lethal_fraction " << fixed(g.lethal_fraction) << '\n'
+         << "lidar_unknown_fraction " << fixed(g.unknown_fraction) << '\n'
+         << "lidar_uncertain_fraction " << fixed(g.uncertain_fraction) << '\n'
+         << "lidar_missing_fraction " << fixed(g.missing_fraction) << '\n'
+         << "lidar_free_height_median_m " << fixed(g.free_height_median_m) << '\n'
+         << "lidar_free_height_p90_m " << fixed(g.free_height_p90_m) << '\n'
+         << "lidar_height_median_m " << fixed(g.height_median_m) << '\n';
+}
+
 /// The map's classes on the road under the camera path (real data).
 void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversability::LayeredMesh& map,
                            std::ostream& report, const mesher::TriangleMesh* truth_m) {
@@ -314,6 +350,7 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
     report << "road_free_truth_distance_median_m " << fixed(road.free_truth_distance_median_m) << '\n'
            << "road_free_truth_distance_p90_m " << fixed(road.free_truth_distance_p90_m) << '\n';
   }
+  if (options.lidar_ground) reportGroundUnderPath(options, map, positions, up, config, report);
 }
 
 }  // namespace
@@ -335,13 +372,21 @@ int runTraverseEval(const std::vector<std::string>& args) {
                  "metres_per_unit; up from the keyframes' orientations); with --gt-mesh too, also how far the "
                  "free part lies from the truth (median and 90th percentile).\n"
                  "With --path (and --gt-mesh): per path, path_valid FILE 1 if it passes planner_demo's strict "
-                 "ground-truth check for the map's robot, else 0 and path_reason FILE the first failure.");
+                 "ground-truth check for the map's robot, else 0 and path_reason FILE the first failure.\n"
+                 "With --lidar-ground (and --road-under-path): the measured points in the same band are the "
+                 "ground; each takes the map face straight above or below it (within --height-tolerance-m): "
+                 "lidar_*_fraction of them under free, lethal, unknown, uncertain or no map surface, and the "
+                 "vertical distance to the free ones (median, p90).");
   TraverseEvalOptions options;
   declareOptions(app, options);
   if (!parseCommandLine(app, args)) return kExitOk;
   const bool truth_mode = options.gt_mesh.has_value();
   const bool road_mode = options.road_under_path.has_value();
   if (!truth_mode && !road_mode) throw UsageError("traverse-eval: give --gt-mesh, --road-under-path or both");
+  if ((options.lidar_ground || options.lidar_sim3) && !road_mode) {
+    throw UsageError("traverse-eval: --lidar-ground and --lidar-sim3 need --road-under-path (the path to check under)");
+  }
+  if (options.lidar_sim3 && !options.lidar_ground) throw UsageError("traverse-eval: --lidar-sim3 needs --lidar-ground");
   if (!options.paths.empty() && !truth_mode) throw UsageError("traverse-eval: --path needs --gt-mesh (the truth to check it on)");
   if (truth_mode && road_mode && options.sim3) {
     throw UsageError("traverse-eval: --road-under-path with --gt-mesh needs the map in the truth's frame (no --sim3)");

@@ -29,6 +29,56 @@ double weightedQuantile(std::vector<std::pair<double, double>> values, double sh
   return values.back().first;
 }
 
+/// The nearest point of a polyline (metres), horizontally: its horizontal distance and the point.
+struct PathFoot {
+  double distance = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  std::size_t segment = 0;
+  double t = 0;
+};
+
+PathFoot nearestOnPath(const std::vector<Eigen::Vector3d>& path, const Eigen::Vector3d& up, const Eigen::Vector3d& p) {
+  auto horizontal = [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(v - up.dot(v) * up); };
+  PathFoot foot;
+  foot.point = path.front();
+  const Eigen::Vector3d c = horizontal(p);
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const Eigen::Vector3d a = horizontal(path[i]), b = horizontal(path[i + 1]);
+    const Eigen::Vector3d ab = b - a;
+    const double length_sq = ab.squaredNorm();
+    const double t = length_sq > 0 ? std::clamp((c - a).dot(ab) / length_sq, 0.0, 1.0) : 0.0;
+    const double distance = (a + t * ab - c).norm();
+    if (distance < foot.distance) {
+      foot = {distance, path[i] + t * (path[i + 1] - path[i]), i, t};
+    }
+  }
+  return foot;
+}
+
+/// The inputs common to both checks, validated, in metres.
+struct MetricPath {
+  Eigen::Vector3d up;
+  std::vector<Eigen::Vector3d> path;
+  double length_m = 0;
+};
+
+MetricPath metricPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
+                      const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config, const char* who) {
+  config.validate();
+  const std::string name(who);
+  if (path_W.size() < 2) throw std::invalid_argument(name + ": the path needs at least 2 points");
+  if (!(up_W.norm() > 0) || !up_W.allFinite()) throw std::invalid_argument(name + ": up_W must be non-zero");
+  if (map.layers.size() != map.mesh.faces.size()) {
+    throw std::invalid_argument(name + ": the map has not one layer record per face");
+  }
+  if (!(map.metres_per_unit > 0)) throw std::invalid_argument(name + ": metres_per_unit must be > 0");
+  MetricPath out;
+  out.up = up_W.normalized();
+  for (const Eigen::Vector3d& p : path_W) out.path.push_back(p * map.metres_per_unit);
+  for (std::size_t i = 0; i + 1 < out.path.size(); ++i) out.length_m += (out.path[i + 1] - out.path[i]).norm();
+  return out;
+}
+
 }  // namespace
 
 void RoadUnderPathConfig::validate() const {
@@ -55,20 +105,12 @@ Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rot
 RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
                             const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config,
                             const mesher::TriangleMesh* truth_m) {
-  config.validate();
-  if (path_W.size() < 2) throw std::invalid_argument("roadUnderPath: the path needs at least 2 points");
-  if (!(up_W.norm() > 0) || !up_W.allFinite()) throw std::invalid_argument("roadUnderPath: up_W must be non-zero");
-  if (map.layers.size() != map.mesh.faces.size()) {
-    throw std::invalid_argument("roadUnderPath: the map has not one layer record per face");
-  }
-  if (!(map.metres_per_unit > 0)) throw std::invalid_argument("roadUnderPath: metres_per_unit must be > 0");
-  const Eigen::Vector3d up = up_W.normalized();
+  const MetricPath metric_path = metricPath(map, path_W, up_W, config, "roadUnderPath");
+  const Eigen::Vector3d& up = metric_path.up;
   const double scale = map.metres_per_unit;
-  // Work in metres.
-  std::vector<Eigen::Vector3d> path;
-  for (const Eigen::Vector3d& p : path_W) path.push_back(p * scale);
+  const std::vector<Eigen::Vector3d>& path = metric_path.path;
   RoadUnderPath out;
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) out.path_length_m += (path[i + 1] - path[i]).norm();
+  out.path_length_m = metric_path.length_m;
 
   mesher::TriangleMesh metric = map.mesh;
   for (Eigen::Vector3d& v : metric.vertices) v *= scale;
@@ -76,24 +118,11 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
   const std::unique_ptr<datasets::TriangleBvh> truth =
       truth_m && !truth_m->faces.empty() ? std::make_unique<datasets::TriangleBvh>(*truth_m) : nullptr;
   std::vector<std::pair<double, double>> free_distances;
-  auto horizontal = [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(v - up.dot(v) * up); };
   for (std::size_t p = 0; p < pieces.mesh.faces.size(); ++p) {
     const Eigen::Vector3d centroid = faceCentroid(pieces.mesh, p);
-    // The nearest point of the path, horizontally (brute force: paths are short).
-    double best = std::numeric_limits<double>::infinity();
-    Eigen::Vector3d best_point = path.front();
-    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-      const Eigen::Vector3d a = horizontal(path[i]), b = horizontal(path[i + 1]);
-      const Eigen::Vector3d c = horizontal(centroid);
-      const Eigen::Vector3d ab = b - a;
-      const double length_sq = ab.squaredNorm();
-      const double t = length_sq > 0 ? std::clamp((c - a).dot(ab) / length_sq, 0.0, 1.0) : 0.0;
-      const double distance = (a + t * ab - c).norm();
-      if (distance < best) {
-        best = distance;
-        best_point = path[i] + t * (path[i + 1] - path[i]);
-      }
-    }
+    const PathFoot foot = nearestOnPath(path, up, centroid);
+    const double best = foot.distance;
+    const Eigen::Vector3d& best_point = foot.point;
     if (best > config.lateral_m) continue;
     const double below = up.dot(best_point - centroid);
     if (std::abs(below - config.camera_height_m) > config.height_tolerance_m) continue;
@@ -114,6 +143,73 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
   out.uncertain_fraction = ratio(out.areas.uncertain_m2, out.areas.total());
   out.free_truth_distance_median_m = weightedQuantile(free_distances, 0.5);
   out.free_truth_distance_p90_m = weightedQuantile(free_distances, 0.9);
+  return out;
+}
+
+GroundUnderPath groundUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
+                                const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config,
+                                const std::vector<Eigen::Vector3d>& ground_W) {
+  const MetricPath metric_path = metricPath(map, path_W, up_W, config, "groundUnderPath");
+  const Eigen::Vector3d& up = metric_path.up;
+  const std::vector<Eigen::Vector3d>& path = metric_path.path;
+  mesher::TriangleMesh metric = map.mesh;
+  for (Eigen::Vector3d& v : metric.vertices) v *= map.metres_per_unit;
+  const std::unique_ptr<datasets::TriangleBvh> bvh =
+      metric.faces.empty() ? nullptr : std::make_unique<datasets::TriangleBvh>(metric);
+  GroundUnderPath out;
+  std::vector<std::pair<double, double>> free_heights, heights;
+  // Which 0.5 m stretches of the path have ground beside them.
+  constexpr double kStretchM = 0.5;
+  std::vector<std::vector<char>> covered(path.size());
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    covered[i].assign(static_cast<std::size_t>(std::ceil((path[i + 1] - path[i]).norm() / kStretchM)) + 1, 0);
+  }
+  for (const Eigen::Vector3d& g_W : ground_W) {
+    if (!g_W.allFinite()) throw std::invalid_argument("groundUnderPath: a ground point is not finite");
+    const Eigen::Vector3d g = g_W * map.metres_per_unit;
+    const PathFoot foot = nearestOnPath(path, up, g);
+    if (foot.distance > config.lateral_m) continue;
+    if (std::abs(up.dot(foot.point - g) - config.camera_height_m) > config.height_tolerance_m) continue;
+    ++out.points;
+    std::vector<char>& stretches = covered[foot.segment];
+    if (!stretches.empty()) stretches[static_cast<std::size_t>(foot.t * static_cast<double>(stretches.size() - 1))] = 1;
+    std::optional<datasets::RayHit> hit;
+    if (bvh) {
+      const auto above = bvh->firstHit(g, up, config.height_tolerance_m);
+      const auto below = bvh->firstHit(g, -up, config.height_tolerance_m);
+      hit = above && (!below || above->distance <= below->distance) ? above : below;
+    }
+    if (!hit) {
+      ++out.missing;
+      continue;
+    }
+    heights.emplace_back(hit->distance, 1.0);
+    switch (map.layers[hit->face].face_class) {
+      case traversability::FaceClass::kFree:
+        ++out.free;
+        free_heights.emplace_back(hit->distance, 1.0);
+        break;
+      case traversability::FaceClass::kLethal: ++out.lethal; break;
+      case traversability::FaceClass::kUnknown: ++out.unknown; break;
+      case traversability::FaceClass::kUncertain: ++out.uncertain; break;
+    }
+  }
+  const double n = static_cast<double>(out.points);
+  out.free_fraction = ratio(static_cast<double>(out.free), n);
+  out.lethal_fraction = ratio(static_cast<double>(out.lethal), n);
+  out.unknown_fraction = ratio(static_cast<double>(out.unknown), n);
+  out.uncertain_fraction = ratio(static_cast<double>(out.uncertain), n);
+  out.missing_fraction = ratio(static_cast<double>(out.missing), n);
+  out.free_height_median_m = weightedQuantile(free_heights, 0.5);
+  out.free_height_p90_m = weightedQuantile(free_heights, 0.9);
+  out.height_median_m = weightedQuantile(heights, 0.5);
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const double length = (path[i + 1] - path[i]).norm();
+    if (covered[i].empty()) continue;
+    std::size_t hits = 0;
+    for (char c : covered[i]) hits += c ? 1 : 0;
+    out.covered_path_m += length * static_cast<double>(hits) / static_cast<double>(covered[i].size());
+  }
   return out;
 }
 

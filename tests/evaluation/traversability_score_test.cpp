@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <vector>
 
 #include "evaluation/mesh_refinement.h"
 #include "evaluation/road_under_path.h"
@@ -180,6 +182,60 @@ TEST(RoadUnderPath, FractionsOfTheRoadUnderTheCamera) {
   RoadUnderPathConfig whole;
   whole.sample_edge_m = 0;
   EXPECT_THROW(roadUnderPath(map, {path[0]}, Eigen::Vector3d::UnitZ(), whole), std::invalid_argument);
+}
+
+TEST(GroundUnderPath, MeasuredGroundUnderThePathTakesTheMapFaceOverIt) {
+  // Map in units of 0.5 m, 1.65 m below a camera path along x from 5 to 15 m: free for y < 0,
+  // lethal for y >= 0, with a hole at 10 <= x < 11; measured ground 0.05 m under it every 0.1 m
+  // over the whole sheet, plus points too far to the side, too high (a car's roof) and too low.
+  traversability::LayeredMesh map;
+  map.metres_per_unit = 0.5;
+  LabeledMesh sheet;
+  for (double x0 = 0; x0 < 20; x0 += 1) {
+    if (x0 == 10) continue;
+    test::addFloor(sheet, x0, x0 + 1, -3, 0, -1.65, SurfaceLabel::kRoad);
+    test::addFloor(sheet, x0, x0 + 1, 0, 3, -1.65, SurfaceLabel::kRoad);
+  }
+  for (auto& v : sheet.mesh.vertices) v /= map.metres_per_unit;
+  map.mesh = sheet.mesh;
+  for (const auto& face : map.mesh.faces) {
+    traversability::FaceLayers layers;
+    const double y = (map.mesh.vertices[face[0]] + map.mesh.vertices[face[1]] + map.mesh.vertices[face[2]]).y() / 3;
+    layers.face_class = y < 0 ? FaceClass::kFree : FaceClass::kLethal;
+    map.layers.push_back(layers);
+  }
+  std::vector<Eigen::Vector3d> ground;
+  for (double x = 0.05; x < 20; x += 0.1) {
+    for (double y = -2.95; y < 3; y += 0.1) ground.emplace_back(x, y, -1.70);
+  }
+  ground.emplace_back(8, 2.5, -1.70);  // beyond lateral_m
+  ground.emplace_back(8, 0.5, -0.6);   // a roof beside the road: out of the height window
+  ground.emplace_back(8, -0.5, -2.6);  // below it
+  for (Eigen::Vector3d& p : ground) p /= map.metres_per_unit;
+  const std::vector<Eigen::Vector3d> path = {{5 / 0.5, 0, 0}, {15 / 0.5, 0, 0}};
+  RoadUnderPathConfig config;
+  config.lateral_m = 1.0;
+  const GroundUnderPath g = groundUnderPath(map, path, Eigen::Vector3d::UnitZ(), config, ground);
+  // The band: 10 m x 2 m plus two half-discs of radius 1 m, 0.1 m grid: about 2314 points.
+  EXPECT_GT(g.points, 2250u);
+  EXPECT_LT(g.points, 2380u);
+  EXPECT_EQ(g.points, g.free + g.lethal + g.unknown + g.uncertain + g.missing);
+  EXPECT_EQ(g.unknown + g.uncertain, 0u);
+  // The hole (1 m of the 10 m path, 2 m wide) has no surface over its points.
+  EXPECT_NEAR(static_cast<double>(g.missing), 200.0, 25.0);
+  EXPECT_NEAR(g.free_fraction, g.lethal_fraction, 0.02);
+  EXPECT_NEAR(g.free_fraction + g.lethal_fraction + g.missing_fraction, 1.0, 1e-12);
+  EXPECT_NEAR(g.free_height_median_m, 0.05, 1e-9);
+  EXPECT_NEAR(g.height_median_m, 0.05, 1e-9);
+  EXPECT_NEAR(g.covered_path_m, 10.0, 0.6);
+  // Ground only beside the first half of the path covers only that half.
+  std::vector<Eigen::Vector3d> first_half;
+  for (const Eigen::Vector3d& p : ground) {
+    if (p.x() * map.metres_per_unit < 9.8) first_half.push_back(p);
+  }
+  EXPECT_NEAR(groundUnderPath(map, path, Eigen::Vector3d::UnitZ(), config, first_half).covered_path_m, 5.0, 0.6);
+  ground.emplace_back(std::numeric_limits<double>::quiet_NaN(), 0, 0);
+  EXPECT_THROW(groundUnderPath(map, path, Eigen::Vector3d::UnitZ(), config, ground), std::invalid_argument);
 }
 
 TEST(RoadUnderPath, UpFromCameraRotations) {

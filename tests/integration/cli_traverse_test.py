@@ -226,6 +226,22 @@ class StreetTest(TempDirCase):
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("--path needs --gt-mesh", result.stderr)
 
+        # --lidar-ground: measured points under the path (here the truth's vertices) against the
+        # map over them: the driven road is found, near the truth.
+        truth = os.path.join(data, "ground_truth.ply")
+        result = run("traverse-eval", out, "--road-under-path", stream, "--lateral-m", "0.34", "--lidar-ground", truth,
+                     "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(report) as f:
+            values = dict(line.split(" ", 1) for line in f.read().splitlines())
+        self.assertGreater(int(values["lidar_ground_points"]), 20)
+        self.assertGreater(float(values["lidar_covered_path_m"]), 20.0)
+        self.assertLess(float(values["lidar_free_height_median_m"]), 0.05)
+        self.assertGreater(float(values["lidar_free_fraction"]), 0.5)
+        result = run("traverse-eval", out, "--gt-mesh", truth, "--lidar-ground", truth, "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("--lidar-ground and --lidar-sim3 need --road-under-path", result.stderr)
+
 
 class GarageTest(TempDirCase):
     def test_two_floors_give_two_levels(self):

@@ -43,6 +43,39 @@ struct RoadUnderPath {
   double path_length_m = 0;
 };
 
+/// The map against measured ground under the path (real data with a LiDAR): the ground points
+/// within the path's band (RoadUnderPathConfig's lateral_m and camera_height_m +- tolerance), each
+/// with the map surface straight above or below it (the nearer, within height_tolerance_m).
+struct GroundUnderPath {
+  /// Ground points in the band, and how many have a map face of each class over them; `missing`:
+  /// no map surface within the tolerance.
+  std::size_t points = 0;
+  std::size_t free = 0, lethal = 0, unknown = 0, uncertain = 0, missing = 0;
+  /// Shares of `points` (NaN without points).
+  double free_fraction = std::numeric_limits<double>::quiet_NaN();
+  double lethal_fraction = std::numeric_limits<double>::quiet_NaN();
+  double unknown_fraction = std::numeric_limits<double>::quiet_NaN();
+  double uncertain_fraction = std::numeric_limits<double>::quiet_NaN();
+  double missing_fraction = std::numeric_limits<double>::quiet_NaN();
+  /// Vertical distance (metres) from the ground points to the map surface over them: at the free
+  /// ones (median, 90th percentile) and at all with a surface (median); NaN if none.
+  double free_height_median_m = std::numeric_limits<double>::quiet_NaN();
+  double free_height_p90_m = std::numeric_limits<double>::quiet_NaN();
+  double height_median_m = std::numeric_limits<double>::quiet_NaN();
+  /// Length (metres) of the path within lateral_m of some ground point of the band: the part the
+  /// measurement covers.
+  double covered_path_m = 0;
+};
+
+/// Checks the map under the polyline `path_W` against `ground_W`, measured points (e.g. LiDAR
+/// returns; the band's height window keeps those on the road), both in the map's units and frame.
+/// Metres via map.metres_per_unit; "up" is `up_W`. O(G P + G log F) for G ground points, P path
+/// points and F faces.
+/// @throw std::invalid_argument as roadUnderPath, or for a non-finite ground point.
+GroundUnderPath groundUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
+                                const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config,
+                                const std::vector<Eigen::Vector3d>& ground_W);
+
 /// "Up" from camera orientations (OpenCV/KITTI cameras: y points down in the image): the
 /// normalised mean of the cameras' -y axes in the world frame.
 /// @throw std::invalid_argument if there are no rotations or they cancel out.
