@@ -224,7 +224,9 @@ int runMesh(const std::vector<std::string>& args) {
   if (!evidence.summary().empty()) summary << evidence.summary() << '\n';
   if (evidence.enabled()) {
     summary << "trajectory evidence: " << evidence.contradictedPoints()
-            << " SLAM point(s) inside the robot's body where it drove, dropped as outliers\n";
+            << " SLAM point(s) inside the robot's body where it drove, dropped as outliers; "
+            << evidence.overriddenKeyframes()
+            << " keyframe(s) whose drive an obstacle seen later overrode (their driven evidence withdrawn)\n";
   }
   if (evidence.warning()) summary << "warning: " << *evidence.warning() << '\n';
   if (traversability) traversability->finish(mesher, summary);

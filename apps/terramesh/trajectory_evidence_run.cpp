@@ -96,10 +96,22 @@ mesher::UpdateStats TrajectoryEvidenceRun::apply(mesher::Mesher& mesher, const d
     // Points the robot drove through: outliers, out of the map (an earlier keyframe may have
     // inserted them).
     if (!evidence_->newlyContradicted().empty()) stats += mesher.removePoints(evidence_->newlyContradicted());
+    // Obstacles seen later where the robot drove before: that drive's evidence goes.
+    for (const mesher::KeyframeId& view : evidence_->newlyWithdrawnViews()) stats += mesher.removeKeyframe(view);
+    for (const mesher::KeyframeId& overridden : evidence_->newlyOverridden()) {
+      stats += mesher.removePoints(evidence_->sampleIdsOf(overridden));
+    }
+    // The body view from the previous keyframe (or none any more: the mesher ignores unknown ids).
+    if (const auto view = evidence_->bodyViewOf(keyframe->id)) {
+      stats += mesher.integrateKeyframe(*view);
+    } else {
+      stats += mesher.removeKeyframe(traversability::bodyViewId(keyframe->id));
+    }
     return stats;
   }
   if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
     mesher::UpdateStats stats = mesher.removeKeyframe(removal->keyframe);
+    stats += mesher.removeKeyframe(traversability::bodyViewId(removal->keyframe));
     const std::vector<mesher::PointId> samples = evidence_->remove(removal->keyframe);
     // The keyframe after it still observes them (its sweep rays): they go with their keyframe.
     if (!samples.empty()) stats += mesher.removePoints(samples);
@@ -132,7 +144,7 @@ std::string TrajectoryEvidenceRun::settings() const {
   std::ostringstream text;
   text.precision(17);
   text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe()
-       << " station_spacing_m=" << station_spacing_m_;
+       << " station_spacing_m=" << station_spacing_m_ << " body_views=1 later_obstacles=1";
   return text.str();
 }
 

@@ -46,6 +46,8 @@ class TrajectoryEvidenceRun {
   const std::string& summary() const { return summary_; }
   /// SLAM points dropped so far because the robot drove through them (outliers).
   std::size_t contradictedPoints() const { return evidence_ ? evidence_->contradictedCount() : 0; }
+  /// Keyframes whose drive obstacles seen later overrode so far.
+  std::size_t overriddenKeyframes() const { return evidence_ ? evidence_->overriddenCount() : 0; }
   /// A disagreement between a given height and the data, if any.
   const std::optional<std::string>& warning() const { return warning_; }
   /// The settings that decide the samples ("off" or the height and layout): a resumed run must

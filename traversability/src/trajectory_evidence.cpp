@@ -5,125 +5,20 @@
 #include <cstdio>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <optional>
+#include <unordered_set>
 #include <utility>
 #include <sstream>
 #include <stdexcept>
 
+
+#include "ground_frame.h"
+
 namespace terramesh::traversability {
 namespace {
 
-/// MAD to standard deviation for Gaussian data.
-constexpr double kMadToSigma = 1.4826;
-
-/// The q-quantile (0 <= q <= 1) of `values`, linearly interpolated; NaN if empty.
-double quantile(std::vector<double> values, double q) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(values.begin(), values.end());
-  const double at = q * static_cast<double>(values.size() - 1);
-  const auto below = static_cast<std::size_t>(std::floor(at));
-  const std::size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (at - static_cast<double>(below)) * (values[above] - values[below]);
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  if (values.size() % 2 == 1) return *mid;
-  const double upper = *mid;
-  const double lower = *std::max_element(values.begin(), mid);
-  return 0.5 * (lower + upper);
-}
-
-std::string metres(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3f m", value);
-  return text;
-}
-
-void requireFrame(const Eigen::Vector3d& up_W, double metres_per_unit) {
-  if (!up_W.allFinite() || std::abs(up_W.norm() - 1.0) > 1e-6) {
-    throw std::invalid_argument("trajectory evidence: up must be a finite unit vector");
-  }
-  if (!(metres_per_unit > 0) || !std::isfinite(metres_per_unit)) {
-    throw std::invalid_argument("trajectory evidence: metres_per_unit must be finite and > 0");
-  }
-}
-
-/// Horizontal coordinates in a plane orthogonal to up.
-struct GroundPlane {
-  Eigen::Vector3d up, e1, e2;
-
-  explicit GroundPlane(const Eigen::Vector3d& up_W) : up(up_W) {
-    const Eigen::Vector3d seed = std::abs(up.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    e1 = (seed - seed.dot(up) * up).normalized();
-    e2 = up.cross(e1);
-  }
-  Eigen::Vector2d project(const Eigen::Vector3d& p) const { return {p.dot(e1), p.dot(e2)}; }
-};
-
-/// Points bucketed by horizontal grid cell (cell size = the search radius).
-class HorizontalGrid {
- public:
-  HorizontalGrid(const std::vector<Eigen::Vector3d>& points, const GroundPlane& plane, double cell)
-      : cell_(cell) {
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      cells_[key(plane.project(points[i]))].push_back(static_cast<std::uint32_t>(i));
-    }
-  }
-  /// Calls `visit(index)` for every point in the 3x3 cells around `at`.
-  template <class Visit>
-  void around(const Eigen::Vector2d& at, Visit visit) const {
-    const auto [cx, cy] = cellOf(at);
-    for (std::int64_t dx = -1; dx <= 1; ++dx) {
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = cells_.find(pack(cx + dx, cy + dy));
-        if (it == cells_.end()) continue;
-        for (std::uint32_t index : it->second) visit(index);
-      }
-    }
-  }
-
- private:
-  std::pair<std::int64_t, std::int64_t> cellOf(const Eigen::Vector2d& p) const {
-    // Clamped so that absurd coordinates (refused later by the mesher) cannot overflow the cast.
-    const auto index = [this](double x) {
-      return static_cast<std::int64_t>(std::clamp(std::floor(x / cell_), -1e15, 1e15));
-    };
-    return {index(p.x()), index(p.y())};
-  }
-  static std::uint64_t pack(std::int64_t x, std::int64_t y) {
-    return (static_cast<std::uint64_t>(x) << 32) ^ (static_cast<std::uint64_t>(y) & 0xffffffffull);
-  }
-  std::uint64_t key(const Eigen::Vector2d& p) const {
-    const auto [x, y] = cellOf(p);
-    return pack(x, y);
-  }
-
-  double cell_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
-};
-
-/// Keeps, of the depths beneath one sensor, the nearest layer that holds min_points_per_keyframe
-/// of them: depths sorted and split where consecutive ones are more than layer_gap_m apart (a
-/// floor of a multi-storey garage hides the levels below it; they are not the ground under the
-/// path). Objects beside the path lie within the ground's layer. Empty if no layer holds enough.
-void keepNearestLayer(std::vector<double>& depths, const TrajectoryEvidenceConfig& config) {
-  std::sort(depths.begin(), depths.end());
-  const auto needed = static_cast<std::size_t>(config.min_points_per_keyframe);
-  std::size_t begin = 0;
-  for (std::size_t i = 1; i <= depths.size(); ++i) {
-    if (i < depths.size() && depths[i] - depths[i - 1] <= config.layer_gap_m) continue;
-    if (i - begin >= needed) {
-      depths.erase(depths.begin() + static_cast<std::ptrdiff_t>(i), depths.end());
-      depths.erase(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(begin));
-      return;
-    }
-    begin = i;
-  }
-  depths.clear();
-}
+using internal::requireFrame;
 
 /// The contact patch layout in the base frame (metres): the footprint's cross-section across the
 /// heading through its centre (a disc's diameter, a rectangle's width), samples at most `spacing`
@@ -177,111 +72,18 @@ void TrajectoryEvidenceConfig::validate() const {
   throw std::invalid_argument(message);
 }
 
-SensorHeightEstimate estimateSensorHeight(const std::vector<Eigen::Vector3d>& sensors_W,
-                                          const std::vector<Eigen::Vector3d>& points_W, const Eigen::Vector3d& up_W,
-                                          double metres_per_unit, const TrajectoryEvidenceConfig& config) {
-  config.validate();
-  requireFrame(up_W, metres_per_unit);
-  const GroundPlane plane(up_W);
-  const double radius = config.estimate_radius_m / metres_per_unit;
-  const HorizontalGrid grid(points_W, plane, radius);
-  SensorHeightEstimate estimate;
-  estimate.keyframes_total = sensors_W.size();
-  std::vector<double> heights;
-  std::vector<double> depths;
-  for (const Eigen::Vector3d& sensor : sensors_W) {
-    const Eigen::Vector2d at = plane.project(sensor);
-    depths.clear();
-    grid.around(at, [&](std::uint32_t index) {
-      const Eigen::Vector3d& p = points_W[index];
-      const double depth_m = (sensor - p).dot(up_W) * metres_per_unit;
-      if (depth_m >= config.min_depth_below_m && (plane.project(p) - at).norm() <= radius) depths.push_back(depth_m);
-    });
-    if (depths.size() < static_cast<std::size_t>(config.min_points_per_keyframe)) continue;
-    keepNearestLayer(depths, config);
-    if (depths.size() < static_cast<std::size_t>(config.min_points_per_keyframe)) continue;
-    const double envelope = quantile(depths, config.envelope_quantile);
-    depths.erase(std::remove_if(depths.begin(), depths.end(),
-                                [&](double d) { return d < envelope - config.ground_band_m; }),
-                 depths.end());
-    heights.push_back(median(depths));
-  }
-  estimate.keyframes_used = heights.size();
-  const double needed = std::max(static_cast<double>(config.min_keyframes),
-                                 config.min_keyframe_fraction * static_cast<double>(sensors_W.size()));
-  if (static_cast<double>(heights.size()) < needed) {
-    std::ostringstream reason;
-    reason << "only " << heights.size() << " of " << sensors_W.size() << " keyframes have "
-           << config.min_points_per_keyframe << " or more points within " << config.estimate_radius_m
-           << " m beneath them (needed " << std::ceil(needed) << ")";
-    estimate.reason = reason.str();
-    estimate.height_m = std::numeric_limits<double>::quiet_NaN();
-    estimate.spread_m = std::numeric_limits<double>::quiet_NaN();
-    return estimate;
-  }
-  estimate.height_m = median(heights);
-  std::vector<double> deviations;
-  deviations.reserve(heights.size());
-  for (double h : heights) deviations.push_back(std::abs(h - estimate.height_m));
-  estimate.spread_m = kMadToSigma * median(deviations);
-  if (estimate.height_m > config.max_sensor_height_m) {
-    estimate.status = SensorHeightEstimate::Status::kNotDriven;
-    estimate.reason = "the sensor is " + metres(estimate.height_m) + " above the points beneath the path (more than " +
-                      metres(config.max_sensor_height_m) + ": not a ground robot)";
-  } else if (estimate.spread_m > config.max_height_spread_m) {
-    estimate.status = SensorHeightEstimate::Status::kNotDriven;
-    estimate.reason = "the sensor's height above the points beneath the path varies by " + metres(estimate.spread_m) +
-                      " (more than " + metres(config.max_height_spread_m) + ": not a sensor mounted on a ground robot)";
-  } else {
-    estimate.status = SensorHeightEstimate::Status::kDriven;
-  }
-  return estimate;
-}
+struct TrajectoryEvidence::BodyIndex {
+  BodyIndex(const Eigen::Vector3d& up_W, double cell) : plane(up_W), cells(cell) {}
+  internal::GroundPlane plane;
+  /// Keyframe ids under the horizontal cell of each of their station bases (cell: the footprint's
+  /// circumradius, so a body holding a point has its base in the 3 x 3 cells around it).
+  internal::HorizontalGrid<std::uint64_t> cells;
+  std::unordered_set<std::uint64_t> seen_points;
+};
 
-TrajectoryEvidenceDecision decideTrajectoryEvidence(const SensorHeightEstimate& estimate,
-                                                    std::optional<double> profile_height_m,
-                                                    std::optional<double> override_height_m,
-                                                    const TrajectoryEvidenceConfig& config) {
-  TrajectoryEvidenceDecision decision;
-  decision.estimate = estimate;
-  const std::optional<double> given = override_height_m ? override_height_m : profile_height_m;
-  const std::string given_source = override_height_m ? "--sensor-height-m" : "the robot profile";
-  const std::string measured = "sensor height estimated from the points beneath the path: " +
-                               metres(estimate.height_m) + " (spread " + metres(estimate.spread_m) + ", " +
-                               std::to_string(estimate.keyframes_used) + " of " +
-                               std::to_string(estimate.keyframes_total) + " keyframes)";
-  using Status = SensorHeightEstimate::Status;
-  if (estimate.status == Status::kNotDriven) {
-    decision.summary = "trajectory evidence: off, the trajectory does not look driven: " + estimate.reason;
-    return decision;
-  }
-  if (estimate.status == Status::kNoData && !given) {
-    decision.summary = "trajectory evidence: off, no sensor height given and none can be estimated: " + estimate.reason;
-    return decision;
-  }
-  decision.enabled = true;
-  if (!given) {
-    decision.sensor_height_m = estimate.height_m;
-    decision.source = "the data";
-    decision.summary = "trajectory evidence: on, " + measured;
-    return decision;
-  }
-  decision.sensor_height_m = *given;
-  decision.source = given_source;
-  decision.summary = "trajectory evidence: on, sensor height " + metres(*given) + " from " + given_source;
-  if (estimate.status == Status::kNoData) {
-    decision.summary += " (not checked against the data: " + estimate.reason + ")";
-    return decision;
-  }
-  decision.summary += "; " + measured;
-  const double tolerance = std::max(config.disagreement_tolerance_m, 3 * estimate.spread_m);
-  if (std::abs(*given - estimate.height_m) > tolerance) {
-    decision.warning = "the sensor height from " + given_source + " (" + metres(*given) +
-                       ") disagrees with the data (" + metres(estimate.height_m) + " +- " +
-                       metres(estimate.spread_m) + " above the points beneath the path); using " + metres(*given);
-  }
-  return decision;
-}
+TrajectoryEvidence::~TrajectoryEvidence() = default;
+TrajectoryEvidence::TrajectoryEvidence(TrajectoryEvidence&&) noexcept = default;
+TrajectoryEvidence& TrajectoryEvidence::operator=(TrajectoryEvidence&&) noexcept = default;
 
 TrajectoryEvidence::TrajectoryEvidence(const RobotProfile& profile, const Eigen::Vector3d& up_W,
                                        double metres_per_unit, double sensor_height_m,
@@ -316,6 +118,7 @@ TrajectoryEvidence::TrajectoryEvidence(const RobotProfile& profile, const Eigen:
   half_width_m_ = 0.5 * profile.footprint_width_m;
   body_low_m_ = profile.max_step_m;
   body_high_m_ = profile.min_clearance_m;
+  bodies_ = std::make_unique<BodyIndex>(up_W_, profile.footprintCircumradiusM() / metres_per_unit_);
   if (layout_B_m_.size() > kMaxDrivenSamplesPerKeyframe) {
     throw std::invalid_argument("trajectory evidence: " + std::to_string(layout_B_m_.size()) +
                                 " samples per keyframe (at most " + std::to_string(kMaxDrivenSamplesPerKeyframe) +
@@ -385,6 +188,45 @@ void TrajectoryEvidence::dropContradicted(mesher::Keyframe& keyframe, const std:
                      observations.end());
 }
 
+void TrajectoryEvidence::indexBodies(mesher::KeyframeId id, const Pose& pose, bool add) {
+  for (std::size_t station = 0; station <= pose.stations; ++station) {
+    const Eigen::Vector2d at = bodies_->plane.project(baseAt(stationPose(pose, station)).translation());
+    if (add) {
+      bodies_->cells.add(at, id.value);
+    } else {
+      bodies_->cells.erase(at, id.value);
+    }
+  }
+}
+
+void TrajectoryEvidence::findLaterObstacles(const mesher::Keyframe& keyframe, std::uint64_t before_order) {
+  if (!config_.later_obstacles_win) return;
+  for (const mesher::PointObservation& o : keyframe.observations) {
+    if (!bodies_->seen_points.insert(o.point.value).second) continue;  // seen before: not later
+    bodies_->cells.around(bodies_->plane.project(o.position_W), [&](std::uint64_t id) {
+      if (overridden_.count(id) != 0) return;
+      const Pose& pose = poses_.at(id);
+      if (pose.order >= before_order) return;
+      for (std::size_t station = 0; station <= pose.stations; ++station) {
+        if (!insideBody(baseAt(stationPose(pose, station)), o.position_W)) continue;
+        overrideDrive(id, true);
+        return;
+      }
+    });
+  }
+}
+
+void TrajectoryEvidence::overrideDrive(std::uint64_t id, bool with_previous) {
+  if (!overridden_.insert(id).second) return;
+  newly_overridden_.push_back(mesher::KeyframeId{id});
+  newly_withdrawn_views_.push_back(bodyViewId(mesher::KeyframeId{id}));
+  const Pose& pose = poses_.at(id);
+  // The keyframe sent after it has its body view at this one's base.
+  const auto after = by_order_.upper_bound(pose.order);
+  if (after != by_order_.end()) newly_withdrawn_views_.push_back(bodyViewId(after->second));
+  if (with_previous && pose.has_previous && poses_.count(pose.previous_id) != 0) overrideDrive(pose.previous_id, false);
+}
+
 Eigen::Isometry3d TrajectoryEvidence::baseAt(const Pose& pose) const {
   Eigen::Isometry3d T_W_B = Eigen::Isometry3d::Identity();
   const Eigen::Matrix3d R_W_C = pose.rotation_W_C.normalized().toRotationMatrix();
@@ -451,6 +293,8 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
     pose.previous_position_W = previous->second.position_W;
     pose.previous_rotation_W_C = previous->second.rotation_W_C;
   }
+  pose.has_previous = previous.has_value();
+  pose.previous_id = previous ? previous->first.value : 0;
   if (known == poses_.end()) {
     pose.stations = previous ? stationsFor((previous->second.position_W - pose.position_W).norm() * metres_per_unit_) : 0;
   }
@@ -467,8 +311,14 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   }
   const std::vector<mesher::PointObservation> own = samplesAt(keyframe.id, pose);  // throws before any change
   dropContradicted(augmented, bodies);
-  augmented.observations.insert(augmented.observations.end(), own.begin(), own.end());
-  if (previous) {
+  newly_overridden_.clear();
+  newly_withdrawn_views_.clear();
+  findLaterObstacles(augmented, previous ? previous->second.order : pose.order);
+  const bool overridden = overridden_.count(keyframe.id.value) != 0;
+  if (!overridden) augmented.observations.insert(augmented.observations.end(), own.begin(), own.end());
+  // No sweep from an overridden keyframe's sensor, nor to an overridden keyframe's samples.
+  const bool sweep = previous && !overridden && overridden_.count(previous->first.value) == 0;
+  if (sweep) {
     // The sweep: this sensor also observes the previous keyframe's samples.
     const std::vector<mesher::PointObservation> swept = samplesAt(previous->first, previous->second);
     augmented.observations.insert(augmented.observations.end(), swept.begin(), swept.end());
@@ -477,16 +327,45 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
     by_order_.emplace(next_order_++, keyframe.id);
     poses_.emplace(keyframe.id.value, pose);
   } else {
+    indexBodies(keyframe.id, known->second, false);
     known->second = pose;
   }
+  indexBodies(keyframe.id, pose, true);
   return augmented;
+}
+
+std::vector<mesher::PointId> TrajectoryEvidence::sampleIdsOf(mesher::KeyframeId id) const {
+  const auto it = poses_.find(id.value);
+  if (it == poses_.end()) return {};
+  std::vector<mesher::PointId> ids;
+  for (const mesher::PointObservation& sample : samplesAt(id, it->second)) ids.push_back(sample.point);
+  return ids;
+}
+
+std::optional<mesher::Keyframe> TrajectoryEvidence::bodyViewOf(mesher::KeyframeId id) const {
+  const auto it = poses_.find(id.value);
+  if (it == poses_.end() || !it->second.has_previous || overridden_.count(id.value) != 0 ||
+      overridden_.count(it->second.previous_id) != 0) {
+    return std::nullopt;
+  }
+  Pose previous = it->second;
+  previous.position_W = it->second.previous_position_W;
+  previous.rotation_W_C = it->second.previous_rotation_W_C;
+  const double height_m = std::min(body_high_m_, sensor_height_m_);
+  mesher::Keyframe view;
+  view.id = bodyViewId(id);
+  view.position_W_C = baseAt(previous) * Eigen::Vector3d(0, 0, height_m / metres_per_unit_);
+  view.rotation_W_C = previous.rotation_W_C;
+  view.observations = samplesAt(id, it->second);
+  return view;
 }
 
 std::vector<mesher::PointId> TrajectoryEvidence::remove(mesher::KeyframeId id) {
   const auto it = poses_.find(id.value);
   if (it == poses_.end()) return {};
-  std::vector<mesher::PointId> ids;
-  for (const mesher::PointObservation& sample : samplesAt(id, it->second)) ids.push_back(sample.point);
+  std::vector<mesher::PointId> ids = sampleIdsOf(id);
+  indexBodies(id, it->second, false);
+  overridden_.erase(id.value);
   by_order_.erase(it->second.order);
   poses_.erase(it);
   return ids;

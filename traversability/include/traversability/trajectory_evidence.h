@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -31,6 +32,13 @@ inline constexpr std::uint64_t kMaxDrivenKeyframeId = (std::uint64_t{1} << (63 -
 
 /// Whether `id` is in the range reserved for driven-ground samples.
 inline bool isDrivenGroundId(mesher::PointId id) { return (id.value & kDrivenGroundIdBit) != 0; }
+
+/// Keyframe ids with this bit set are body views (TrajectoryEvidence::bodyViewOf): the body view
+/// of keyframe k has id kBodyViewKeyframeBit | k. SLAM keyframe ids stay below it (they are at most
+/// kMaxDrivenKeyframeId).
+inline constexpr std::uint64_t kBodyViewKeyframeBit = std::uint64_t{1} << 63;
+/// The id of keyframe `id`'s body view.
+inline mesher::KeyframeId bodyViewId(mesher::KeyframeId id) { return mesher::KeyframeId{kBodyViewKeyframeBit | id.value}; }
 
 /// How trajectory evidence is estimated, checked and sampled. Lengths in metres.
 struct TrajectoryEvidenceConfig {
@@ -80,6 +88,11 @@ struct TrajectoryEvidenceConfig {
   /// A given mounting disagrees with the data when it is further than this (or 3 spreads) from
   /// the estimate.
   double disagreement_tolerance_m = 0.1;
+
+  /// Later obstacles win over the old drive: a SLAM point first seen after the robot drove on,
+  /// inside the body where the robot was two or more keyframes before, withdraws that keyframe's
+  /// driven evidence (TrajectoryEvidence::newlyOverridden).
+  bool later_obstacles_win = true;
 
   /// @throw std::invalid_argument listing every out-of-range field, each "key: value (expected ...)".
   void validate() const;
@@ -159,6 +172,11 @@ class TrajectoryEvidence {
   ///        more than kMaxDrivenSamplesPerKeyframe samples.
   TrajectoryEvidence(const RobotProfile& profile, const Eigen::Vector3d& up_W, double metres_per_unit,
                      double sensor_height_m, const Eigen::Vector3d& forward_S, const TrajectoryEvidenceConfig& config);
+  ~TrajectoryEvidence();
+  TrajectoryEvidence(TrajectoryEvidence&&) noexcept;
+  TrajectoryEvidence& operator=(TrajectoryEvidence&&) noexcept;
+  TrajectoryEvidence(const TrajectoryEvidence&) = delete;
+  TrajectoryEvidence& operator=(const TrajectoryEvidence&) = delete;
 
   /// The samples of `keyframe` at its pose (no state change).
   /// A keyframe already recorded (augment) also gets the patches at its stations, between this pose
@@ -173,6 +191,15 @@ class TrajectoryEvidence {
   ///        keyframe id exceeds kMaxDrivenKeyframeId; nothing is recorded then.
   mesher::Keyframe augment(const mesher::Keyframe& keyframe);
 
+  /// The body view of a keyframe augment() has recorded, when it was sent after a keyframe within
+  /// `max_sweep_distance_m`: a keyframe with id bodyViewId(id) whose centre is in the robot's body,
+  /// `min_clearance_m` (at most the sensor height) above the previous keyframe's base (as recorded
+  /// with this one), observing this keyframe's samples: its own patch and its stations. Its rays
+  /// run inside the body volume swept between the two, from behind and low, where the sensor's
+  /// own rays (from above and ahead) leave closing faces over the driven strip. Nothing when the
+  /// keyframe is unknown or had no previous keyframe near enough (remove an earlier body view then).
+  std::optional<mesher::Keyframe> bodyViewOf(mesher::KeyframeId id) const;
+
   /// Forgets keyframe `id` and returns the ids of its samples (to remove from the mesher after
   /// removing the keyframe: the next keyframe still observes them). Empty if it is unknown.
   std::vector<mesher::PointId> remove(mesher::KeyframeId id);
@@ -186,6 +213,23 @@ class TrajectoryEvidence {
   const std::vector<mesher::PointId>& newlyContradicted() const { return newly_contradicted_; }
   /// How many points the drive has contradicted so far.
   std::size_t contradictedCount() const { return contradicted_.size(); }
+
+  /// The keyframes whose drive the last augment() found overridden by an obstacle seen later:
+  /// a SLAM point it saw for the first time lies inside the body at one of their stations, and
+  /// they were sent before the keyframe before it (so the point was not there when the robot
+  /// was); and, with each, the keyframe sent before it (its sensor's sweep rays ran to that one's
+  /// samples, past the obstacle). From now on they have no samples, no sweep to them and no body
+  /// view; remove their samples (sampleIdsOf) from the mesher, after the body views of
+  /// newlyWithdrawnViews(). With `later_obstacles_win` off, always empty.
+  const std::vector<mesher::KeyframeId>& newlyOverridden() const { return newly_overridden_; }
+  /// Body views the last augment() withdrew: those of the overridden keyframes and of the keyframe
+  /// sent after each (its view stands at the overridden keyframe's base). Remove them from the
+  /// mesher (unknown ids are ignored there).
+  const std::vector<mesher::KeyframeId>& newlyWithdrawnViews() const { return newly_withdrawn_views_; }
+  /// How many keyframes later obstacles have overridden so far.
+  std::size_t overriddenCount() const { return overridden_.size(); }
+  /// The ids of all samples keyframe `id` has or had (its patch and stations); empty if unknown.
+  std::vector<mesher::PointId> sampleIdsOf(mesher::KeyframeId id) const;
 
   /// Samples of one patch (a keyframe carries one patch, plus one per station).
   std::size_t samplesPerKeyframe() const { return layout_B_m_.size(); }
@@ -209,6 +253,9 @@ class TrajectoryEvidence {
     std::size_t stations = 0;
     Eigen::Vector3d previous_position_W = Eigen::Vector3d::Zero();
     Eigen::Quaterniond previous_rotation_W_C = Eigen::Quaterniond::Identity();
+    /// Whether the last send found a previous keyframe near enough (the body view exists), and which.
+    bool has_previous = false;
+    std::uint64_t previous_id = 0;
   };
   std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
   /// The pose at `station` (0: the keyframe's own; 1..stations from the previous pose on).
@@ -219,6 +266,14 @@ class TrajectoryEvidence {
   bool insideBody(const Eigen::Isometry3d& T_W_B, const Eigen::Vector3d& p_W) const;
   /// Leaves the contradicted points out of `keyframe` (poses: where the body was).
   void dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B);
+  /// Marks overridden the keyframes sent before `before_order` with a body containing one of the
+  /// points `keyframe` sees for the first time.
+  void findLaterObstacles(const mesher::Keyframe& keyframe, std::uint64_t before_order);
+  /// Overrides keyframe `id` (if not yet): no samples, no body view, and the same for the
+  /// keyframe before it when `with_previous`.
+  void overrideDrive(std::uint64_t id, bool with_previous);
+  /// Lists or unlists a keyframe's station bases in the body index.
+  void indexBodies(mesher::KeyframeId id, const Pose& pose, bool add);
 
   Eigen::Vector3d up_W_;
   double metres_per_unit_;
@@ -233,6 +288,12 @@ class TrajectoryEvidence {
   double radius_m_ = 0, half_length_m_ = 0, half_width_m_ = 0, body_low_m_ = 0, body_high_m_ = 0;
   std::unordered_set<std::uint64_t> contradicted_;
   std::vector<mesher::PointId> newly_contradicted_;
+  /// Keyframe ids by the horizontal cell of their station bases, and the SLAM points seen so far.
+  struct BodyIndex;
+  std::unique_ptr<BodyIndex> bodies_;
+  std::unordered_set<std::uint64_t> overridden_;
+  std::vector<mesher::KeyframeId> newly_overridden_;
+  std::vector<mesher::KeyframeId> newly_withdrawn_views_;
   std::unordered_map<std::uint64_t, Pose> poses_;
   std::map<std::uint64_t, mesher::KeyframeId> by_order_;
   std::uint64_t next_order_ = 0;

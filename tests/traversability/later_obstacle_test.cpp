@@ -1,0 +1,178 @@
+// Later obstacles win over the old drive (docs/traversability.md, "Trajectory evidence"): a SLAM
+// point first seen after the robot drove on, inside the body where it was, withdraws that drive's
+// evidence, in TrajectoryEvidence and in the mesher.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include "mesher/mesher.h"
+#include "test_support/mesh_queries.h"
+#include "traversability/trajectory_evidence.h"
+
+namespace terramesh::traversability {
+namespace {
+
+RobotProfile discRobot(double radius_m) {
+  RobotProfile profile;
+  profile.footprint = FootprintShape::kDisc;
+  profile.footprint_radius_m = radius_m;
+  return profile;  // max_step_m 0.2, min_clearance_m 1 by default: the body spans 0.2-1 m
+}
+
+/// A camera (x right, y down, z forward) at `position`, looking along `forward` (horizontal) in a
+/// z-up world.
+mesher::Keyframe cameraAt(std::uint64_t id, const Eigen::Vector3d& position,
+                          const Eigen::Vector3d& forward = Eigen::Vector3d::UnitX()) {
+  mesher::Keyframe keyframe;
+  keyframe.id = mesher::KeyframeId{id};
+  keyframe.position_W_C = position;
+  Eigen::Matrix3d R_W_C;
+  R_W_C.col(2) = forward.normalized();
+  R_W_C.col(1) = -Eigen::Vector3d::UnitZ();
+  R_W_C.col(0) = R_W_C.col(1).cross(R_W_C.col(2));
+  keyframe.rotation_W_C = Eigen::Quaterniond(R_W_C);
+  return keyframe;
+}
+
+mesher::PointObservation observation(std::uint64_t id, const Eigen::Vector3d& p) {
+  mesher::PointObservation o;
+  o.point = mesher::PointId{id};
+  o.position_W = p;
+  return o;
+}
+
+std::size_t drivenCount(const mesher::Keyframe& keyframe) {
+  std::size_t n = 0;
+  for (const auto& o : keyframe.observations) n += isDrivenGroundId(o.point) ? 1 : 0;
+  return n;
+}
+
+TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDrive) {
+  TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
+  for (std::uint64_t k = 1; k <= 5; ++k) evidence.augment(cameraAt(k, {2.0 * (k - 1), 0, 1}));
+  ASSERT_TRUE(evidence.bodyViewOf(mesher::KeyframeId{3}));
+  const std::size_t patch = evidence.samplesPerKeyframe();
+  // From 20 m on: a point 0.5 m up where keyframe 3 (x = 4) stood, one beside the path, one on the
+  // ground (below the step height), all seen for the first time.
+  mesher::Keyframe later = cameraAt(6, {20, 0, 1});
+  later.observations = {observation(100, {4, 0, 0.5}), observation(101, {4, 2, 0.5}), observation(102, {4, 0, 0.05})};
+  evidence.augment(later);
+  // Keyframe 3, and keyframe 2, whose samples keyframe 3's sensor swept to.
+  ASSERT_EQ(evidence.newlyOverridden().size(), 2u);
+  EXPECT_EQ(evidence.newlyOverridden()[0].value, 3u);
+  EXPECT_EQ(evidence.newlyOverridden()[1].value, 2u);
+  EXPECT_EQ(evidence.overriddenCount(), 2u);
+  EXPECT_TRUE(evidence.newlyContradicted().empty());
+  // The views of 3 and 2, and of 4 and 3, which stand at their bases.
+  std::vector<std::uint64_t> views;
+  for (const mesher::KeyframeId& id : evidence.newlyWithdrawnViews()) views.push_back(id.value & ~kBodyViewKeyframeBit);
+  std::sort(views.begin(), views.end());
+  EXPECT_EQ(views, (std::vector<std::uint64_t>{2, 3, 3, 4}));
+  for (std::uint64_t k : {2, 3, 4}) EXPECT_FALSE(evidence.bodyViewOf(mesher::KeyframeId{k})) << k;
+  EXPECT_TRUE(evidence.bodyViewOf(mesher::KeyframeId{5}));
+  EXPECT_EQ(evidence.sampleIdsOf(mesher::KeyframeId{3}).size(), 4 * patch) << "its patch and 3 stations, to remove";
+  // Re-sent, keyframe 3 carries no samples (nor a sweep); keyframe 4 its own but no sweep to 3's.
+  EXPECT_EQ(drivenCount(evidence.augment(cameraAt(3, {4, 0, 1}))), 0u);
+  EXPECT_EQ(drivenCount(evidence.augment(cameraAt(4, {6, 0, 1}))), 4 * patch);
+  EXPECT_TRUE(evidence.newlyOverridden().empty());
+  // A point seen before overrides nothing, even where the robot was.
+  mesher::Keyframe again = cameraAt(7, {22, 0, 1});
+  again.observations = {observation(100, {8, 0, 0.5})};
+  evidence.augment(again);
+  EXPECT_TRUE(evidence.newlyOverridden().empty());
+  // Inside the body at the keyframe before: the robot drove through it, an outlier (contradicted).
+  mesher::Keyframe next = cameraAt(8, {24, 0, 1});
+  next.observations = {observation(103, {22, 0, 0.5})};
+  evidence.augment(next);
+  EXPECT_TRUE(evidence.newlyOverridden().empty());
+  ASSERT_EQ(evidence.newlyContradicted().size(), 1u);
+  EXPECT_EQ(evidence.newlyContradicted().front().value, 103u);
+  // Removed, keyframe 3 is forgotten, overridden or not.
+  evidence.remove(mesher::KeyframeId{3});
+  EXPECT_EQ(evidence.overriddenCount(), 1u);
+
+  TrajectoryEvidenceConfig off;
+  off.later_obstacles_win = false;
+  TrajectoryEvidence old_drive_wins(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), off);
+  for (std::uint64_t k = 1; k <= 5; ++k) old_drive_wins.augment(cameraAt(k, {2.0 * (k - 1), 0, 1}));
+  old_drive_wins.augment(later);
+  EXPECT_TRUE(old_drive_wins.newlyOverridden().empty());
+}
+
+/// A box parked on a lane the robot drove earlier, seen only on a second lap, in the mesher. On
+/// the first lap (lane y = 0) the camera looks to the right (-y), at ground beyond y = -2, so only
+/// the driven evidence observes the lane; on the second (y = 4) it looks at the lane, at the box
+/// (x 7.7-8.3, y -0.3-0.3, 0.6 m tall) and at the ground in front of it.
+mesher::TriangleMesh meshBoxScene(bool later_obstacles_win, std::size_t& overridden) {
+  mesher::MesherConfig config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
+  config.steiner_step_m = 4.0;
+  config.driven_ground_up_W = Eigen::Vector3d::UnitZ();
+  mesher::Mesher mesher(config);
+  TrajectoryEvidenceConfig evidence_config;
+  evidence_config.later_obstacles_win = later_obstacles_win;
+  // The robot drives along +x; its camera looks along -y: forward is -x in the camera frame.
+  TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.65, -Eigen::Vector3d::UnitX(),
+                              evidence_config);
+  std::uint64_t next_point = 1;
+  std::vector<std::pair<std::uint64_t, Eigen::Vector3d>> ground_right, ground_front, box;
+  for (double x = -4; x <= 20; x += 0.5) {
+    for (double y = -12; y <= -2; y += 0.5) ground_right.push_back({next_point++, {x, y, 0}});
+    for (double y = 0.5; y <= 3; y += 0.5) ground_front.push_back({next_point++, {x, y, 0}});
+  }
+  for (double x = 7.7; x <= 8.31; x += 0.1) {
+    for (double z = 0.05; z <= 0.6; z += 0.1) box.push_back({next_point++, {x, 0.3, z}});
+    for (double y = -0.3; y <= 0.31; y += 0.1) box.push_back({next_point++, {x, y, 0.6}});
+  }
+  const auto lap = [&](std::uint64_t first_id, double y, const std::vector<const decltype(box)*>& seen) {
+    for (int k = 0; k <= 8; ++k) {
+      mesher::Keyframe keyframe = cameraAt(first_id + k, {2.0 * k, y, 1.65}, -Eigen::Vector3d::UnitY());
+      for (const auto* points : seen) {
+        for (const auto& [id, p] : *points) {
+          if ((p - keyframe.position_W_C).norm() < 12) keyframe.observations.push_back(observation(id, p));
+        }
+      }
+      mesher.integrateKeyframe(evidence.augment(keyframe));
+      if (!evidence.newlyContradicted().empty()) mesher.removePoints(evidence.newlyContradicted());
+      for (const mesher::KeyframeId& id : evidence.newlyWithdrawnViews()) mesher.removeKeyframe(id);
+      for (const mesher::KeyframeId& id : evidence.newlyOverridden()) mesher.removePoints(evidence.sampleIdsOf(id));
+      if (const auto view = evidence.bodyViewOf(keyframe.id)) mesher.integrateKeyframe(*view);
+    }
+  };
+  lap(1, 0.0, {&ground_right});
+  lap(20, 4.0, {&ground_front, &box});
+  overridden = evidence.overriddenCount();
+  EXPECT_TRUE(mesher.checkInvariants().ok());
+  return mesher.extractMesh();
+}
+
+TEST(LaterObstacleTest, ABoxParkedOnTheDrivenLaneStaysInTheMesh) {
+  std::size_t overridden_on = 0, overridden_off = 0;
+  const mesher::TriangleMesh on = meshBoxScene(true, overridden_on);
+  const mesher::TriangleMesh off = meshBoxScene(false, overridden_off);
+  ASSERT_TRUE(mesher::analyzeTopology(on).isClosedManifold());
+  // Inside the box, 0.1-0.5 m up: free space (carved) means the box is gone from the map.
+  std::size_t free_on = 0, free_off = 0, probes = 0;
+  for (double x = 7.8; x <= 8.21; x += 0.1) {
+    for (double y = -0.2; y <= 0.21; y += 0.1) {
+      for (double z = 0.1; z <= 0.51; z += 0.1) {
+        free_on += test::insideClosedMesh(on, {x, y, z});
+        free_off += test::insideClosedMesh(off, {x, y, z});
+        ++probes;
+      }
+    }
+  }
+  std::printf("box interior in free space: %zu of %zu probes with later obstacles winning (%zu keyframes "
+              "overridden), %zu with the old drive winning\n", free_on, probes, overridden_on, free_off);
+  EXPECT_EQ(overridden_off, 0u);
+  EXPECT_GE(overridden_on, 1u);
+  EXPECT_LE(free_on, probes / 10);
+  EXPECT_GT(free_off, free_on);
+}
+
+}  // namespace
+}  // namespace terramesh::traversability
