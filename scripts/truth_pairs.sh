@@ -7,7 +7,9 @@
 #   scripts/truth_pairs.sh SCENE_DIR MAP_DIR ROBOT.yaml [PLANNER]
 #
 # SCENE_DIR holds ground_truth.ply (and trajectory.txt, hazards.csv) of `terramesh generate`;
-# MAP_DIR is a map of that scene's stream (`terramesh mesh STREAM --robot ROBOT.yaml -o MAP_DIR`).
+# MAP_DIR is a map of that scene's stream (`terramesh mesh STREAM --robot ROBOT.yaml -o MAP_DIR`);
+# the pairs are drawn on the truth for ROBOT.yaml, and planned on the map's own layers (the online
+# map's, unconfirmed points included, which a recomputation from mesh.ply would not see).
 # PLANNER defaults to graph (A* on the face graph: deterministic). Expects a Release build in
 # build/ (or TERRAMESH_BUILD=dir). A miss is "missed (end off known ground)" when the map has no
 # known walkable face at the start or the goal, else "missed". Every connecting path is then checked
@@ -31,7 +33,7 @@ declare -A count=() outcome_of=() truth_of=() code_of=() says_of=()
 names=() paths=()
 while IFS=$'\t' read -r name sx sy sz gx gy gz reachable reason; do
   set +e
-  "$terramesh" plan "$map" --robot "$robot" --planner "$planner" --start "$sx" "$sy" "$sz" --goal "$gx" "$gy" "$gz" \
+  "$terramesh" plan "$map" --planner "$planner" --start "$sx" "$sy" "$sz" --goal "$gx" "$gy" "$gz" \
  \
     "${plan_args[@]}" -o "$work/plan_$name" --quiet > "$work/out.txt" 2> "$work/err.txt"
   code=$?

@@ -116,7 +116,7 @@ TraversabilitySession::TraversabilitySession(traversability::RobotProfile profil
       up_source_(std::move(up_source)),
       map_(std::make_unique<traversability::TraversabilityMap>(profile_, frame)) {
   csv_ << "event,keyframes,revision,faces_added,faces_removed,faces_recomputed,faces_total,full_rebuild,"
-          "layer_update_s,export_s\n";
+          "unconfirmed_points,layer_update_s,export_s\n";
 }
 
 void TraversabilitySession::update(const mesher::Mesher& mesher, const std::string& event) {
@@ -125,9 +125,10 @@ void TraversabilitySession::update(const mesher::Mesher& mesher, const std::stri
   if (stats.full_rebuild) ++full_rebuilds_;
   revision_ = mesher.revision();
   update_seconds_ += stats.seconds;
+  unconfirmed_points_ = stats.unconfirmed_points;
   csv_ << event << ',' << keyframes_ << ',' << revision_ << ',' << stats.faces_added << ','
        << stats.faces_removed << ',' << stats.faces_recomputed << ',' << stats.faces_total << ','
-       << (stats.full_rebuild ? 1 : 0) << ',' << stats.seconds << ',';
+       << (stats.full_rebuild ? 1 : 0) << ',' << stats.unconfirmed_points << ',' << stats.seconds << ',';
 }
 
 traversability::ExportReport TraversabilitySession::exportNow() {
@@ -156,6 +157,7 @@ void TraversabilitySession::afterEvent(const mesher::Mesher& mesher, std::size_t
 
 void TraversabilitySession::resume(const mesher::Mesher& mesher, std::size_t keyframes) {
   keyframes_ = keyframes;
+  unconfirmed_points_ = map_->setUnconfirmedPoints(mesher.unconfirmedPoints()).unconfirmed_points;
   const traversability::LayerUpdateStats stats = map_->reset(mesher.surfaceFaces());
   ++full_rebuilds_;
   revision_ = mesher.revision();
@@ -165,7 +167,7 @@ void TraversabilitySession::resume(const mesher::Mesher& mesher, std::size_t key
 void TraversabilitySession::finish(const mesher::Mesher& mesher, std::ostream& summary) {
   const auto start = Clock::now();
   if (mesher.revision() != revision_) update(mesher, "end");
-  else csv_ << "end," << keyframes_ << ',' << revision_ << ",0,0,0," << map_->faceCount() << ",0,0,";
+  else csv_ << "end," << keyframes_ << ',' << revision_ << ",0,0,0," << map_->faceCount() << ",0," << unconfirmed_points_ << ",0,";
   // The last keyframe may have exported this very revision already.
   const bool current = exports_ > 0 && exported_revision_ == revision_;
   const traversability::ExportReport report = current ? last_report_ : exportNow();
@@ -174,7 +176,8 @@ void TraversabilitySession::finish(const mesher::Mesher& mesher, std::ostream& s
   summary << "traversability: robot " << profile_.name << ", up " << map_->frame().up_W.transpose() << " ("
           << up_source_ << "), " << map_->faceCount() << " faces, " << report.levels << " level(s); "
           << exports_ << " export(s), layer updates " << update_seconds_ << " s in total ("
-          << full_rebuilds_ << " full rebuild(s)), exports " << export_seconds_ << " s\n";
+          << full_rebuilds_ << " full rebuild(s)), exports " << export_seconds_ << " s; " << unconfirmed_points_
+          << " SLAM point(s) seen by too few keyframes to mesh, judged as possible obstacles\n";
   for (std::size_t l = 0; l < report.levels; ++l) {
     summary << "  level " << l << ": mean height " << report.level_heights_m[l] << " m -> level_" << l
             << ".yaml\n";

@@ -89,6 +89,7 @@ class TraversabilitySession {
   std::uint64_t exported_revision_ = 0;
   traversability::ExportReport last_report_;
   std::size_t full_rebuilds_ = 0;
+  std::size_t unconfirmed_points_ = 0;  ///< after the last update
   double update_seconds_ = 0;
   double export_seconds_ = 0;
   std::ostringstream csv_;

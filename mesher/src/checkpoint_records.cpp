@@ -213,6 +213,7 @@ void CheckpointAccess::readRegistry(PointRegistry& registry, ByteReader& in, con
   for (const PointRecord& point : registry.points_) {
     checkIndices(in, point.keyframes, registry.keyframes_.size(), "an observing keyframe index");
   }
+  registry.rebuildWaiting();
 }
 
 void CheckpointAccess::writeSurfaceLog(const SurfaceLog& log, ByteWriter& out) {

@@ -30,6 +30,7 @@ std::vector<SurfaceFace> Mesher::surfaceFaces() const { return impl_->surfaceFac
 std::vector<SurfaceFace> Mesher::facesAround(const std::vector<VertexKey>& vertices) const {
   return impl_->facesAround(vertices);
 }
+std::vector<UnconfirmedPoint> Mesher::unconfirmedPoints() const { return impl_->unconfirmedPoints(); }
 MapSize Mesher::size() const { return impl_->size(); }
 const MesherConfig& Mesher::config() const { return impl_->config(); }
 std::vector<CellVisibility> Mesher::cellVisibility() const { return impl_->cellVisibility(); }

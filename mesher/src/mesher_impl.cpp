@@ -150,6 +150,7 @@ std::size_t Mesher::Impl::viewsInRange(const internal::PointRecord& point,
 
 void Mesher::Impl::classifyPoint(std::uint32_t index, UpdatePlan& plan, UpdateStats& stats) {
   internal::PointRecord& point = state_.registry.point(index);
+  plan.classified.push_back(index);
   if (!point.inserted()) {
     // A driven-ground sample is measured by the drive itself: one view suffices.
     const std::size_t min_views = point.kind == PointKind::kDrivenGround
@@ -356,6 +357,9 @@ UpdateStats Mesher::Impl::run(UpdatePlan& plan, UpdateStats stats) {
     if (point.alive && !point.inserted() && point.keyframes.empty() && point.rays.empty()) {
       state_.registry.erasePoint(index);
     }
+  }
+  for (const auto* list : {&plan.classified, &plan.remove, &plan.forget}) {
+    for (std::uint32_t index : *list) state_.registry.refreshWaiting(index);
   }
   state_.surface_log.commit();
   clock.enter(Step::kIdle);

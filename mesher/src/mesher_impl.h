@@ -30,6 +30,7 @@ class Mesher::Impl {
   SurfaceDelta changesSince(std::uint64_t revision) const;
   std::vector<SurfaceFace> surfaceFaces() const;
   std::vector<SurfaceFace> facesAround(const std::vector<VertexKey>& vertices) const;
+  std::vector<UnconfirmedPoint> unconfirmedPoints() const;
   MapSize size() const;
   InvariantReport checkInvariants() const;
   std::vector<CellVisibility> cellVisibility() const;
@@ -44,6 +45,7 @@ class Mesher::Impl {
     std::vector<std::uint32_t> move;    ///< inserted points with a new estimate
     std::vector<std::uint32_t> remove;  ///< inserted points to delete
     std::vector<std::uint32_t> forget;  ///< records to erase once the update is done
+    std::vector<std::uint32_t> classified;  ///< every point classified (its waiting state re-read at the end)
     std::vector<internal::RayId> untrace_now;  ///< rays whose segment changes or that go away
     std::vector<internal::RayId> destroy;      ///< rays to free after untracing
     std::vector<internal::RayId> trace;        ///< rays to walk at the end (new segments)

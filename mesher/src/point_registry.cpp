@@ -32,8 +32,23 @@ void PointRegistry::erasePoint(std::uint32_t index) {
   PointRecord& record = points_[index];
   assert(record.alive && !record.inserted() && record.rays.empty());
   point_index_.erase(record.id);
+  waiting_.erase(index);
   record = PointRecord{};
   free_points_.push_back(index);
+}
+
+void PointRegistry::refreshWaiting(std::uint32_t index) {
+  const PointRecord& record = points_[index];
+  if (record.alive && record.kind == PointKind::kSlam && !record.inserted() && !record.keyframes.empty()) {
+    waiting_.insert(index);
+  } else {
+    waiting_.erase(index);
+  }
+}
+
+void PointRegistry::rebuildWaiting() {
+  waiting_.clear();
+  for (std::size_t i = 0; i < points_.size(); ++i) refreshWaiting(static_cast<std::uint32_t>(i));
 }
 
 std::uint32_t PointRegistry::findOrCreateKeyframe(KeyframeId id, bool& created) {
@@ -98,8 +113,9 @@ std::size_t PointRegistry::pointBytes(std::size_t rays) const {
 std::size_t PointRegistry::indexBytes() const {
   // libstdc++ unordered_map: a bucket pointer per bucket and a node (next, key, value, hash).
   const std::size_t node = sizeof(void*) + sizeof(std::uint64_t) * 2 + sizeof(std::size_t);
-  return (point_index_.bucket_count() + keyframe_index_.bucket_count()) * sizeof(void*) +
-         (point_index_.size() + keyframe_index_.size()) * node;
+  const std::size_t waiting_node = sizeof(void*) + sizeof(std::uint64_t);
+  return (point_index_.bucket_count() + keyframe_index_.bucket_count() + waiting_.bucket_count()) * sizeof(void*) +
+         (point_index_.size() + keyframe_index_.size()) * node + waiting_.size() * waiting_node;
 }
 
 }  // namespace terramesh::mesher::internal

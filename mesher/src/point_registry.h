@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "cgal_types.h"
@@ -77,6 +78,14 @@ class PointRegistry {
   /// Observation links (entries of the keyframes' lists, mirrored in the points' lists).
   std::size_t observationLinks() const { return observation_links_; }
 
+  /// Points observed but not inserted (SLAM points waiting for `min_views` keyframes in range):
+  /// indices kept current by refreshWaiting. O(1) to read.
+  const std::unordered_set<std::uint32_t>& waitingPoints() const { return waiting_; }
+  /// Re-reads whether the point at `index` is waiting: alive, a SLAM point, observed, not inserted.
+  void refreshWaiting(std::uint32_t index);
+  /// Rebuilds the waiting set from the records (after loading a checkpoint). O(point slots).
+  void rebuildWaiting();
+
   /// Estimated bytes of the point and keyframe records and their lists, given the ray count. O(1).
   std::size_t pointBytes(std::size_t rays) const;
   /// Estimated bytes of the id maps. O(1).
@@ -92,6 +101,7 @@ class PointRegistry {
   std::vector<std::uint32_t> free_keyframes_;
   std::unordered_map<KeyframeId, std::uint32_t> keyframe_index_;
   std::size_t observation_links_ = 0;
+  std::unordered_set<std::uint32_t> waiting_;
 };
 
 }  // namespace terramesh::mesher::internal

@@ -137,4 +137,16 @@ std::vector<SurfaceFace> Mesher::Impl::facesAround(const std::vector<VertexKey>&
   return faces;
 }
 
+std::vector<UnconfirmedPoint> Mesher::Impl::unconfirmedPoints() const {
+  std::vector<UnconfirmedPoint> points;
+  points.reserve(state_.registry.waitingPoints().size());
+  for (std::uint32_t index : state_.registry.waitingPoints()) {
+    const internal::PointRecord& record = state_.registry.point(index);
+    points.push_back({record.id, record.latest_W, static_cast<std::uint32_t>(record.keyframes.size())});
+  }
+  std::sort(points.begin(), points.end(),
+            [](const UnconfirmedPoint& a, const UnconfirmedPoint& b) { return a.id < b.id; });
+  return points;
+}
+
 }  // namespace terramesh::mesher

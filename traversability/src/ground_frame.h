@@ -56,6 +56,23 @@ class HorizontalGrid {
     if (found != values.end()) values.erase(found);
     if (values.empty()) cells_.erase(it);
   }
+  /// Calls `visit(value)` for every value in the cells overlapping the box [lo, hi] and returns
+  /// true; visits nothing and returns false if that is more than `max_cells` cells.
+  template <class Visit>
+  bool inBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, std::size_t max_cells, Visit visit) const {
+    const auto [x0, y0] = cellOf(lo);
+    const auto [x1, y1] = cellOf(hi);
+    if (x1 < x0 || y1 < y0) return true;
+    if (static_cast<double>(x1 - x0 + 1) * static_cast<double>(y1 - y0 + 1) > static_cast<double>(max_cells)) return false;
+    for (std::int64_t x = x0; x <= x1; ++x) {
+      for (std::int64_t y = y0; y <= y1; ++y) {
+        const auto it = cells_.find(pack(x, y));
+        if (it == cells_.end()) continue;
+        for (const Value& value : it->second) visit(value);
+      }
+    }
+    return true;
+  }
   /// Calls `visit(value)` for every value in the 3x3 cells around `at`.
   template <class Visit>
   void around(const Eigen::Vector2d& at, Visit visit) const {

@@ -406,6 +406,9 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
     if ((g.box_min.array() > hi.array()).any() || (g.box_max.array() < lo.array()).any()) return;
     candidates.push_back(t);
   });
+  // Over driven ground the robot's body swept the volume: an unconfirmed point there is
+  // contradicted by the drive (a confirmed one, inserted later, wins: later obstacles).
+  if (!driven) collectUnconfirmed(store.face(s), ref_a, ref_b);
 }
 
 void LayerComputer::computeClearance(SurfaceStore& store, Slot s, bool driven) const {

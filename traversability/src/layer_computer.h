@@ -9,6 +9,7 @@
 
 #include "surface_store.h"
 #include "traversability/robot_profile.h"
+#include "unconfirmed_points.h"
 
 namespace terramesh::traversability::internal {
 
@@ -61,8 +62,18 @@ class LayerComputer {
   double maxReachM() const { return 2.0 * radius_m_ + profile_.evidence.max_obstacle_extension_m; }
 
   /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`. Reads the
-  /// evidence of the faces around it (setEvidence first).
+  /// evidence of the faces around it (setEvidence first) and the unconfirmed points around it
+  /// (setUnconfirmedPoints; none if never set).
   void computeLocal(SurfaceStore& store, Slot s) const;
+
+  /// The SLAM points not in the mesh, read by computeLocal as possible obstacles: a point inside a
+  /// face's body (between max_step_m and min_clearance_m above its reference plane) stands for an
+  /// obstacle of radius EvidenceModel::unconfirmed_point_extension_m that nobody confirmed (a rock
+  /// seen from one keyframe). Kept by the caller, which must outlive this computer's use of it.
+  void setUnconfirmedPoints(const UnconfirmedPoints* points) { unconfirmed_ = points; }
+  /// Horizontal reach of an unconfirmed point: a face whose projection is farther from it cannot
+  /// meet it (a robot may stand anywhere on a face).
+  double unconfirmedReachM() const { return radius_m_ + profile_.evidence.unconfirmed_point_extension_m; }
 
   /// Sets the evidence and height uncertainty of face `s` (its layers and its sampling geometry)
   /// from the face alone: its vertices, its horizontal span and whether rays crossed the free
@@ -78,6 +89,10 @@ class LayerComputer {
     double obstacle_reach_m = 0;
   };
   GroundWindow groundWindow(const StoredFace& face) const;
+  /// Whether the unconfirmed point p (L) lies inside the body of face f: within
+  /// unconfirmedReachM() of the face's horizontal projection, and between max_step_m and
+  /// min_clearance_m above its reference plane (then it makes the face uncertain).
+  bool unconfirmedInBody(const StoredFace& f, const Eigen::Vector3d& p) const;
   /// Whether a face t (its bounds and whether heightAt can sample it) can take part in the local
   /// layers of a face with centroid `c` and ground window `w`, as a ground candidate, an obstacle
   /// in its footprint or its ceiling, wherever t lies horizontally (the caller tests the reach). When false, adding or
@@ -178,6 +193,13 @@ class LayerComputer {
   /// Collects, for face s, its ground candidates (candidates_) and the parts of non-ground faces
   /// inside its body (obstacles_), measured or possible, with their possible extension.
   void collectNearby(const SurfaceStore& store, Slot s, const Reference& reference_plane, bool driven) const;
+  /// Adds to obstacles_ the unconfirmed points inside the body of face f (reference plane slopes
+  /// ref_a, ref_b), as possible obstacles with their extension, each relative to the point of the
+  /// face closest to it.
+  void collectUnconfirmed(const StoredFace& f, double ref_a, double ref_b) const;
+  /// unconfirmedInBody with the reference plane given; `offset`: p less the closest point.
+  bool unconfirmedInBody(const StoredFace& f, double ref_a, double ref_b, const Eigen::Vector3d& p,
+                         Eigen::Vector2d& offset) const;
   /// Sets the clearance of face s (clearance_m, clearance_unknown_low): the first face above its
   /// centroid; over driven ground, faces the drive contradicts do not count.
   void computeClearance(SurfaceStore& store, Slot s, bool driven) const;
@@ -253,6 +275,7 @@ class LayerComputer {
   mutable std::vector<double> tops_;
   mutable std::vector<char> possible_;
   mutable std::vector<Slot> neighbours_;
+  const UnconfirmedPoints* unconfirmed_ = nullptr;
 };
 
 }  // namespace terramesh::traversability::internal

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "face_projection.h"
 #include "layer_computer.h"
 
 namespace terramesh::traversability::internal {
@@ -55,6 +56,39 @@ bool LayerComputer::clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c
   for (int i = 0; i < out.n; ++i) out.p[static_cast<std::size_t>(i)] = a[static_cast<std::size_t>(i)].head<2>();
   out.top_m = std::min(top, hi);
   return true;
+}
+
+bool LayerComputer::unconfirmedInBody(const StoredFace& f, double ref_a, double ref_b, const Eigen::Vector3d& p,
+                                      Eigen::Vector2d& offset) const {
+  // Where the robot stands on the face closest to the point: a planner may put it anywhere on it.
+  const Eigen::Vector2d at = closestPoint(p.head<2>(), projectionOf(f));
+  offset = p.head<2>() - at;
+  if (offset.norm() > unconfirmedReachM()) return false;
+  const Eigen::Vector2d d = p.head<2>() - f.centroid_L.head<2>();
+  const double height = p.z() - f.centroid_L.z() - ref_a * d.x() - ref_b * d.y();
+  return height > profile_.max_step_m + kBodyToleranceM && height <= profile_.min_clearance_m;
+}
+
+bool LayerComputer::unconfirmedInBody(const StoredFace& f, const Eigen::Vector3d& p) const {
+  const Reference r = reference(f);
+  Eigen::Vector2d offset;
+  return unconfirmedInBody(f, r.ref_a, r.ref_b, p, offset);
+}
+
+void LayerComputer::collectUnconfirmed(const StoredFace& f, double ref_a, double ref_b) const {
+  if (unconfirmed_ == nullptr || unconfirmed_->size() == 0) return;
+  const Eigen::Vector2d reach(unconfirmedReachM(), unconfirmedReachM());
+  unconfirmed_->forEachInBox(f.box_min - reach, f.box_max + reach, [&](const Eigen::Vector3d& p) {
+    Obstacle o;
+    o.p.fill(Eigen::Vector2d::Zero());
+    if (!unconfirmedInBody(f, ref_a, ref_b, p, o.p[0])) return;
+    // A point, relative to the footprint's centre where the face comes closest to it.
+    o.n = 1;
+    o.top_m = std::min(p.z() - f.centroid_L.z(), profile_.min_clearance_m);
+    o.possible = true;
+    o.extension_m = profile_.evidence.unconfirmed_point_extension_m;
+    obstacles_.push_back(o);
+  });
 }
 
 bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eigen::Vector2d& at,

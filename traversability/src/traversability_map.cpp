@@ -11,12 +11,16 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "face_projection.h"
 #include "layer_computer.h"
 #include "surface_store.h"
+#include "unconfirmed_points.h"
 
 namespace terramesh::traversability {
 namespace {
 
+using internal::Change;
+using internal::Projection;
 using internal::Slot;
 using internal::StoredFace;
 using internal::SurfaceStore;
@@ -49,42 +53,6 @@ double centroidCellM(const RobotProfile& profile) {
   return std::clamp(profile.footprintCircumradiusM(), 1.0, 4.0);
 }
 
-/// A face's projection on the horizontal plane.
-struct Projection {
-  std::array<Eigen::Vector2d, 3> p;
-  Eigen::Vector2d lo, hi;
-};
-
-/// A face added, removed or re-judged by its evidence: its projection, bounds and whether
-/// heightAt can sample it.
-struct Change {
-  Projection projection;
-  internal::FaceBounds bounds;
-  bool sampleable = false;
-};
-
-Projection projectionOf(const StoredFace& f) {
-  return {{f.p_L[0].head<2>(), f.p_L[1].head<2>(), f.p_L[2].head<2>()}, f.box_min, f.box_max};
-}
-
-double distanceToSegment(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((q - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - q).norm();
-}
-
-/// Horizontal distance from q to a projected face (0 inside it).
-double distanceToTriangle(const Eigen::Vector2d& q, const Projection& t) {
-  const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
-  const double d0 = cross(t.p[1] - t.p[0], q - t.p[0]);
-  const double d1 = cross(t.p[2] - t.p[1], q - t.p[1]);
-  const double d2 = cross(t.p[0] - t.p[2], q - t.p[2]);
-  if ((d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0)) return 0.0;
-  return std::min({distanceToSegment(q, t.p[0], t.p[1]), distanceToSegment(q, t.p[1], t.p[2]),
-                   distanceToSegment(q, t.p[2], t.p[0])});
-}
-
 /// Whether a stored face has exactly the vertices (same order), positions and Steiner flag of
 /// `face`: then replacing it would change no layer but its own observation count.
 bool sameGeometry(const StoredFace& stored, const mesher::SurfaceFace& face) {
@@ -95,40 +63,29 @@ bool sameGeometry(const StoredFace& stored, const mesher::SurfaceFace& face) {
 
 }  // namespace
 
-void MapFrame::validate() const {
-  std::string problems;
-  if (!up_W.allFinite() || up_W.norm() < 1e-12) problems += "\n  up_W: not a finite non-zero vector";
-  if (!(metres_per_unit > 0) || !std::isfinite(metres_per_unit)) {
-    problems += "\n  metres_per_unit: " + std::to_string(metres_per_unit) + " (expected > 0)";
-  }
-  if (!problems.empty()) throw std::invalid_argument("invalid map frame:" + problems);
-}
-
-Eigen::Vector3d estimateUpFromCameras(const std::vector<Eigen::Matrix3d>& rotations_W_C,
-                                      const Eigen::Vector3d& up_C) {
-  if (rotations_W_C.empty()) throw std::invalid_argument("estimateUpFromCameras: no camera rotations");
-  if (!up_C.allFinite() || up_C.norm() == 0.0) {
-    throw std::invalid_argument("estimateUpFromCameras: the sensor's up axis is not a finite non-zero vector");
-  }
-  const Eigen::Vector3d axis = up_C.normalized();
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const Eigen::Matrix3d& R : rotations_W_C) sum += R * axis;
-  if (!sum.allFinite() || sum.norm() < 1e-6 * static_cast<double>(rotations_W_C.size())) {
-    throw std::invalid_argument("estimateUpFromCameras: the cameras' up axes cancel out");
-  }
-  return sum.normalized();
-}
-
 class TraversabilityMap::Impl {
  public:
   Impl(const RobotProfile& profile, const MapFrame& frame)
       : profile_(profile),
         frame_(frame),
         computer_(profile),
-        store_(levelRotation(frame.up_W), frame.metres_per_unit, gridCellM(profile), centroidCellM(profile)) {}
+        store_(levelRotation(frame.up_W), frame.metres_per_unit, gridCellM(profile), centroidCellM(profile)),
+        unconfirmed_(levelRotation(frame.up_W), frame.metres_per_unit, computer_.unconfirmedReachM() + 1e-3) {
+    computer_.setUnconfirmedPoints(&unconfirmed_);
+  }
+
+  /// Replaces the unconfirmed points; the faces they reach are re-judged by the next apply()
+  /// (or all of them by reset()). Returns whether any point changed.
+  bool replaceUnconfirmed(const std::vector<mesher::UnconfirmedPoint>& points) {
+    const std::size_t before = point_changes_.size();
+    unconfirmed_.replace(points, point_changes_);
+    return point_changes_.size() != before;
+  }
+  std::size_t unconfirmedCount() const { return unconfirmed_.size(); }
 
   LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces) {
     const auto start = std::chrono::steady_clock::now();
+    point_changes_.clear();
     store_.clear();
     distance_.clear();
     lethal_.clear();
@@ -172,7 +129,7 @@ class TraversabilityMap::Impl {
       const std::optional<Slot> slot = store_.find(key);
       if (!slot) return false;
       const bool had_distance = std::isfinite(distance_[*slot]);
-      changed.push_back({projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable});
+      changed.push_back({internal::projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable});
       if (had_distance) change_points.push_back(store_.centroid(*slot));
       // Its edge neighbours' rise confirmation read its vertices (LayerComputer::riseConfirmed).
       store_.neighbours(*slot, scratch_neighbours_);
@@ -199,7 +156,7 @@ class TraversabilityMap::Impl {
       if (computer_.setEvidence(store_, s)) {
         reevidenced.push_back(s);
         change_points.push_back(f.centroid_L);
-        changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
+        changed.push_back({internal::projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
       } else {
         reobserved.push_back(s);
       }
@@ -233,7 +190,7 @@ class TraversabilityMap::Impl {
       window_[s] = computer_.groundWindow(f);
       added.push_back(s);
       change_points.push_back(f.centroid_L);
-      changed.push_back({projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
+      changed.push_back({internal::projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
     }
     stats.faces_added += added.size();
     for (const mesher::SurfaceFace& face : around) {
@@ -285,13 +242,14 @@ class TraversabilityMap::Impl {
       store_.forEachCentroidInBox(p.lo - r, p.hi + r, [&](Slot s) {
         if (mark_[s] == epoch) return;
         const Eigen::Vector3d& c = store_.centroid(s);
-        const double distance = distanceToTriangle(c.head<2>(), p);
+        const double distance = internal::distanceToTriangle(c.head<2>(), p);
         if (distance <= reach &&
             computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) {
           markDirty(s);
         }
       });
     }
+    markNearUnconfirmedChanges(epoch, markDirty);
     // The faces added come first in `dirty` (added_dirty of them); they are change points already.
     for (std::size_t i = 0; i < dirty.size(); ++i) {
       const Slot s = dirty[i];
@@ -367,6 +325,20 @@ class TraversabilityMap::Impl {
   }
 
  private:
+  /// Marks (markDirty) every face whose body holds, or held, an unconfirmed point added, removed
+  /// or moved since the last update (LayerComputer::unconfirmedInBody), and forgets those changes.
+  template <class Mark>
+  void markNearUnconfirmedChanges(std::uint32_t epoch, Mark&& markDirty) {
+    const double reach = computer_.unconfirmedReachM() * (1 + 1e-9) + 1e-6;
+    const Eigen::Vector2d r(reach, reach);
+    for (const Eigen::Vector3d& p : point_changes_) {
+      store_.forEachInBox(p.head<2>() - r, p.head<2>() + r, [&](Slot s) {
+        if (mark_[s] != epoch && computer_.unconfirmedInBody(store_.face(s), p)) markDirty(s);
+      });
+    }
+    point_changes_.clear();
+  }
+
   void grow() {
     distance_.resize(store_.slotCount(), kInf);
     lethal_.resize(store_.slotCount(), 0);
@@ -501,6 +473,10 @@ class TraversabilityMap::Impl {
   std::vector<Slot> reobserved_, reevidenced_, added_, dirty_, region_, edge_neighbours_, scratch_neighbours_;
   std::unordered_set<mesher::FaceKey> unchanged_;
   std::vector<QueueEntry> queue_storage_;
+  /// The mesher's points not in the mesh (possible obstacles), and the positions (L) where they
+  /// changed since the last apply().
+  internal::UnconfirmedPoints unconfirmed_;
+  std::vector<Eigen::Vector3d> point_changes_;
 };
 
 TraversabilityMap::TraversabilityMap(const RobotProfile& profile, const MapFrame& frame) {
@@ -517,13 +493,15 @@ LayerUpdateStats TraversabilityMap::update(const mesher::Mesher& mesher, std::ui
   const auto start = std::chrono::steady_clock::now();
   const mesher::SurfaceDelta delta = mesher.changesSince(from_revision);
   LayerUpdateStats stats;
+  const bool points_changed = impl_->replaceUnconfirmed(mesher.unconfirmedPoints());
   if (!delta.complete) {
     stats = impl_->reset(mesher.surfaceFaces());
-  } else if (!delta.empty()) {
+  } else if (!delta.empty() || points_changed) {
     stats = impl_->apply(delta, mesher.facesAround(delta.touched_vertices));
   } else {
     stats.faces_total = impl_->faceCount();
   }
+  stats.unconfirmed_points = impl_->unconfirmedCount();
   // The mesher's queries are part of the cost of keeping up.
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
@@ -534,6 +512,12 @@ LayerUpdateStats TraversabilityMap::apply(const mesher::SurfaceDelta& delta,
   return impl_->apply(delta, faces_around_touched);
 }
 LayerUpdateStats TraversabilityMap::reset(const std::vector<mesher::SurfaceFace>& faces) { return impl_->reset(faces); }
+LayerUpdateStats TraversabilityMap::setUnconfirmedPoints(const std::vector<mesher::UnconfirmedPoint>& points) {
+  impl_->replaceUnconfirmed(points);
+  LayerUpdateStats stats = impl_->apply(mesher::SurfaceDelta{}, {});
+  stats.unconfirmed_points = impl_->unconfirmedCount();
+  return stats;
+}
 LayeredMesh TraversabilityMap::snapshot() const { return impl_->snapshot(); }
 std::size_t TraversabilityMap::faceCount() const { return impl_->faceCount(); }
 const RobotProfile& TraversabilityMap::profile() const { return impl_->profile(); }

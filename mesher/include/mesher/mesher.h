@@ -46,6 +46,17 @@ struct CellVisibility {
   bool outside = false;
 };
 
+/// A SLAM point observed but not in the triangulation: fewer than `min_views` keyframes within
+/// `max_camera_distance_m` see it (a rock seen from one keyframe, a point still waiting for its
+/// second view). It shapes no surface; traversability treats it as a possible obstacle.
+struct UnconfirmedPoint {
+  PointId id;
+  /// Latest estimate, in the world frame W, in map units.
+  Eigen::Vector3d position_W = Eigen::Vector3d::Zero();
+  /// Keyframes observing it (in range or not).
+  std::uint32_t views = 0;
+};
+
 /// Result of Mesher::checkInvariants: every violation found, described in one line each.
 struct InvariantReport {
   std::vector<std::string> violations;
@@ -122,6 +133,10 @@ class Mesher {
   /// SurfaceDelta::touched_vertices to refresh the counts of faces that changed only in how they
   /// were observed. O(sum of the vertices' degrees + result log result).
   std::vector<SurfaceFace> facesAround(const std::vector<VertexKey>& vertices) const;
+
+  /// Every unconfirmed SLAM point (driven-ground samples never are), sorted by id. O(n log n) in
+  /// their number, kept current by every update.
+  std::vector<UnconfirmedPoint> unconfirmedPoints() const;
 
   MapSize size() const;
   const MesherConfig& config() const;

@@ -40,6 +40,8 @@ struct LayerUpdateStats {
   std::size_t faces_readded_unchanged = 0;
   std::size_t faces_total = 0;       ///< faces in the map after the update
   bool full_rebuild = false;         ///< the delta was incomplete: everything was recomputed
+  /// SLAM points the mesher holds but has not inserted (possible obstacles), after the update.
+  std::size_t unconfirmed_points = 0;
   double seconds = 0;                ///< wall-clock time of the update
 };
 
@@ -56,8 +58,9 @@ class TraversabilityMap {
   TraversabilityMap& operator=(TraversabilityMap&&) noexcept;
 
   /// Brings the layers from the surface `mesher` had at `from_revision` (the revision this map was
-  /// last brought to) to its current surface: apply(changesSince(from_revision),
-  /// facesAround(touched_vertices)), or reset(surfaceFaces()) when that history is forgotten.
+  /// last brought to) to its current surface and unconfirmed points: setUnconfirmedPoints(
+  /// unconfirmedPoints()) with apply(changesSince(from_revision), facesAround(touched_vertices)),
+  /// or reset(surfaceFaces()) when that history is forgotten.
   /// Afterwards every layer, `rays` included, equals reset(mesher.surfaceFaces()) exactly; the next
   /// call continues from mesher.revision(). Cost proportional to the change (except a reset).
   /// @throw std::invalid_argument if `from_revision` is newer than mesher.revision().
@@ -76,8 +79,15 @@ class TraversabilityMap {
   LayerUpdateStats apply(const mesher::SurfaceDelta& delta,
                          const std::vector<mesher::SurfaceFace>& faces_around_touched);
 
-  /// Replaces the whole surface and recomputes every layer.
+  /// Replaces the whole surface and recomputes every layer (with the unconfirmed points last set).
   LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces);
+
+  /// Replaces the SLAM points the mesher has not inserted (mesher::Mesher::unconfirmedPoints,
+  /// which update() reads by itself) and re-judges the faces whose body they reach: inside it
+  /// (between max_step_m and min_clearance_m above a face), such a point is a possible obstacle
+  /// of radius EvidenceModel::unconfirmed_point_extension_m, making the face uncertain, never
+  /// lethal. Faces on driven ground ignore them (the drive contradicts an unconfirmed point).
+  LayerUpdateStats setUnconfirmedPoints(const std::vector<mesher::UnconfirmedPoint>& points);
 
   /// Layers of a finished mesh (e.g. read from PLY). Faces touching a vertex flagged in
   /// `mesh.is_steiner` are unmeasured; without the flags every face counts as measured. Faces take

@@ -1,0 +1,57 @@
+#pragma once
+// Faces projected on the horizontal plane, for the incremental update's reach tests. Internal.
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+
+#include "surface_store.h"
+
+namespace terramesh::traversability::internal {
+
+/// A face's projection on the horizontal plane.
+struct Projection {
+  std::array<Eigen::Vector2d, 3> p;
+  Eigen::Vector2d lo, hi;
+};
+
+/// A face added, removed or re-judged by its evidence: its projection, bounds and whether
+/// heightAt can sample it.
+struct Change {
+  Projection projection;
+  FaceBounds bounds;
+  bool sampleable = false;
+};
+
+inline Projection projectionOf(const StoredFace& f) {
+  return {{f.p_L[0].head<2>(), f.p_L[1].head<2>(), f.p_L[2].head<2>()}, f.box_min, f.box_max};
+}
+
+/// The point of segment ab closest to q.
+inline Eigen::Vector2d closestPointOnSegment(const Eigen::Vector2d& q, const Eigen::Vector2d& a,
+                                             const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((q - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return a + t * ab;
+}
+
+/// The point of a projected face closest to q (q itself inside it).
+inline Eigen::Vector2d closestPoint(const Eigen::Vector2d& q, const Projection& t) {
+  const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
+  const double d0 = cross(t.p[1] - t.p[0], q - t.p[0]);
+  const double d1 = cross(t.p[2] - t.p[1], q - t.p[1]);
+  const double d2 = cross(t.p[0] - t.p[2], q - t.p[2]);
+  if ((d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0)) return q;
+  Eigen::Vector2d best = closestPointOnSegment(q, t.p[0], t.p[1]);
+  for (int i = 1; i < 3; ++i) {
+    const Eigen::Vector2d c = closestPointOnSegment(q, t.p[static_cast<std::size_t>(i)], t.p[static_cast<std::size_t>((i + 1) % 3)]);
+    if ((c - q).squaredNorm() < (best - q).squaredNorm()) best = c;
+  }
+  return best;
+}
+
+/// Horizontal distance from q to a projected face (0 inside it).
+inline double distanceToTriangle(const Eigen::Vector2d& q, const Projection& t) { return (closestPoint(q, t) - q).norm(); }
+
+}  // namespace terramesh::traversability::internal

@@ -1,0 +1,32 @@
+#include "unconfirmed_points.h"
+
+namespace terramesh::traversability::internal {
+
+UnconfirmedPoints::UnconfirmedPoints(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m)
+    : R_L_W_(R_L_W), metres_per_unit_(metres_per_unit), cell_m_(cell_m), grid_(cell_m) {}
+
+void UnconfirmedPoints::replace(const std::vector<mesher::UnconfirmedPoint>& points,
+                                std::vector<Eigen::Vector3d>& changed_L) {
+  HashMap<std::uint64_t, Eigen::Vector3d> next;
+  next.reserve(points.size());
+  for (const mesher::UnconfirmedPoint& point : points) {
+    const Eigen::Vector3d p_L = R_L_W_ * (point.position_W * metres_per_unit_);
+    if (!p_L.allFinite()) continue;
+    next.emplace(point.id.value, p_L);
+  }
+  for (const auto& [id, p_L] : points_) {
+    const auto it = next.find(id);
+    if (it != next.end() && it->second == p_L) continue;
+    changed_L.push_back(p_L);  // removed, or moved away from here
+    grid_.erase(p_L.head<2>(), id);
+  }
+  for (const auto& [id, p_L] : next) {
+    const auto it = points_.find(id);
+    if (it != points_.end() && it->second == p_L) continue;
+    changed_L.push_back(p_L);  // added, or moved here
+    grid_.add(p_L.head<2>(), id);
+  }
+  points_ = std::move(next);
+}
+
+}  // namespace terramesh::traversability::internal

@@ -1,0 +1,48 @@
+#pragma once
+// The SLAM points the mesher has not inserted (mesher::Mesher::unconfirmedPoints), in the layers'
+// frame L, indexed in the horizontal plane: possible obstacles for the faces around them. Internal.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "ground_frame.h"
+#include "mesher/mesher.h"
+#include "surface_store.h"
+
+namespace terramesh::traversability::internal {
+
+class UnconfirmedPoints {
+ public:
+  /// @param R_L_W rotation taking map-frame directions to L (up_W -> +z); @param cell_m the
+  /// horizontal grid cell (metres, > 0).
+  UnconfirmedPoints(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m);
+
+  /// Replaces the set by `points` (map frame). Appends to `changed_L` the positions (L) of the
+  /// points added and removed, and both positions of those that moved. O(old + new size).
+  void replace(const std::vector<mesher::UnconfirmedPoint>& points, std::vector<Eigen::Vector3d>& changed_L);
+
+  /// Calls `visit(p_L)` for every point (at least) whose horizontal position lies in the box
+  /// [lo, hi] (L): the points of the grid cells it overlaps, or all of them when that is cheaper.
+  template <class Visit>
+  void forEachInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, Visit visit) const {
+    if (points_.empty()) return;
+    const bool done = grid_.inBox(lo, hi, points_.size(), [&](std::uint64_t id) {
+      const auto it = points_.find(id);
+      if (it != points_.end()) visit(it->second);
+    });
+    if (done) return;
+    for (const auto& entry : points_) visit(entry.second);
+  }
+
+  std::size_t size() const { return points_.size(); }
+
+ private:
+  Eigen::Matrix3d R_L_W_;
+  double metres_per_unit_;
+  double cell_m_;
+  HashMap<std::uint64_t, Eigen::Vector3d> points_;
+  HorizontalGrid<std::uint64_t> grid_;
+};
+
+}  // namespace terramesh::traversability::internal
