@@ -3,7 +3,7 @@
 namespace terramesh::traversability::internal {
 
 UnconfirmedPoints::UnconfirmedPoints(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m)
-    : R_L_W_(R_L_W), metres_per_unit_(metres_per_unit), cell_m_(cell_m), grid_(cell_m) {}
+    : R_L_W_(R_L_W), metres_per_unit_(metres_per_unit), grid_(cell_m) {}
 
 void UnconfirmedPoints::replace(const std::vector<mesher::UnconfirmedPoint>& points,
                                 std::vector<Eigen::Vector3d>& changed_L) {

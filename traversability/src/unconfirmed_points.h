@@ -40,7 +40,6 @@ class UnconfirmedPoints {
  private:
   Eigen::Matrix3d R_L_W_;
   double metres_per_unit_;
-  double cell_m_;
   HashMap<std::uint64_t, Eigen::Vector3d> points_;
   HorizontalGrid<std::uint64_t> grid_;
 };
