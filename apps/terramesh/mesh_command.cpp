@@ -225,6 +225,9 @@ int runMesh(const std::vector<std::string>& args) {
   if (evidence.enabled()) {
     summary << "trajectory evidence: " << evidence.contradictedPoints()
             << " SLAM point(s) inside the robot's body where it drove, dropped as outliers; "
+            << evidence.absorbedPoints()
+            << " on the ground it drove (near the contact plane, under the footprint), stood for by the "
+               "driven samples; "
             << evidence.overriddenKeyframes()
             << " keyframe(s) whose drive an obstacle seen later overrode (their driven evidence withdrawn)\n";
   }

@@ -101,17 +101,19 @@ mesher::UpdateStats TrajectoryEvidenceRun::apply(mesher::Mesher& mesher, const d
     for (const mesher::KeyframeId& overridden : evidence_->newlyOverridden()) {
       stats += mesher.removePoints(evidence_->sampleIdsOf(overridden));
     }
-    // The body view from the previous keyframe (or none any more: the mesher ignores unknown ids).
-    if (const auto view = evidence_->bodyViewOf(keyframe->id)) {
-      stats += mesher.integrateKeyframe(*view);
-    } else {
-      stats += mesher.removeKeyframe(traversability::bodyViewId(keyframe->id));
+    // The body views from the previous keyframe (or none any more: the mesher ignores unknown ids).
+    const std::vector<mesher::Keyframe> views = evidence_->bodyViewsOf(keyframe->id);
+    for (const mesher::Keyframe& view : views) stats += mesher.integrateKeyframe(view);
+    if (views.empty()) {
+      for (const mesher::KeyframeId& view : traversability::bodyViewIds(keyframe->id)) stats += mesher.removeKeyframe(view);
     }
     return stats;
   }
   if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
     mesher::UpdateStats stats = mesher.removeKeyframe(removal->keyframe);
-    stats += mesher.removeKeyframe(traversability::bodyViewId(removal->keyframe));
+    for (const mesher::KeyframeId& view : traversability::bodyViewIds(removal->keyframe)) {
+      stats += mesher.removeKeyframe(view);
+    }
     const std::vector<mesher::PointId> samples = evidence_->remove(removal->keyframe);
     // The keyframe after it still observes them (its sweep rays): they go with their keyframe.
     if (!samples.empty()) stats += mesher.removePoints(samples);

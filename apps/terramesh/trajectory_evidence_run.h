@@ -46,6 +46,8 @@ class TrajectoryEvidenceRun {
   const std::string& summary() const { return summary_; }
   /// SLAM points dropped so far because the robot drove through them (outliers).
   std::size_t contradictedPoints() const { return evidence_ ? evidence_->contradictedCount() : 0; }
+  /// SLAM points on the ground the robot drove, left out for the driven samples, so far.
+  std::size_t absorbedPoints() const { return evidence_ ? evidence_->absorbedCount() : 0; }
   /// Keyframes whose drive obstacles seen later overrode so far.
   std::size_t overriddenKeyframes() const { return evidence_ ? evidence_->overriddenCount() : 0; }
   /// A disagreement between a given height and the data, if any.

@@ -22,6 +22,7 @@ constexpr bool kHostLittleEndian = __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__;
 // Items reserved up front at most: a header's count is untrusted, so a corrupt count ends in
 // "file truncated" rather than in a huge allocation; larger elements grow as they are read.
 constexpr std::size_t kMaxReservedItems = std::size_t{1} << 20;
+constexpr std::size_t kMaxListLength = std::size_t{1} << 31;
 
 bool isFloat(Type type) { return type == Type::kFloat32 || type == Type::kFloat64; }
 
@@ -220,6 +221,11 @@ class Reader {
         const double count = readValue(*property.list_count_type, element, i);
         if (!(count >= 0) || count != std::floor(count)) {
           fail(itemLocation(element, i), "list \"" + property.name + "\" has an invalid count");
+        }
+        // A float count type can hold counts no std::size_t holds; no real list comes near this.
+        if (count > static_cast<double>(kMaxListLength)) {
+          fail(itemLocation(element, i), "list \"" + property.name + "\" has a count above " +
+                                             std::to_string(kMaxListLength));
         }
         for (std::size_t k = 0; k < static_cast<std::size_t>(count); ++k) {
           property.values.push_back(readValue(property.type, element, i));

@@ -129,17 +129,24 @@ def read_kitti_positions(path):
     return np.array(positions, dtype=float)
 
 
-def save_png(figure, path):
-    """Saves `figure` as a PNG at `path` atomically (temporary file in the same folder, then rename)."""
+def write_atomically(path, suffix, write):
+    """Writes `path` atomically: `write(stream)` fills a temporary file in the same folder (binary),
+    which gets mode 0644 (mkstemp's is 0600) and is then renamed over `path`."""
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=".tmp-", suffix=".png", dir=folder)
+    handle, temporary = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=folder)
     try:
         with os.fdopen(handle, "wb") as stream:
-            figure.savefig(stream, format="png", dpi=FIGURE_DPI)
+            write(stream)
+        os.chmod(temporary, 0o644)
         os.replace(temporary, path)
     except BaseException:
         if os.path.exists(temporary):
             os.remove(temporary)
         raise
     return path
+
+
+def save_png(figure, path):
+    """Saves `figure` as a PNG at `path` atomically, mode 0644 (write_atomically)."""
+    return write_atomically(path, ".png", lambda stream: figure.savefig(stream, format="png", dpi=FIGURE_DPI))

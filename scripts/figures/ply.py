@@ -8,12 +8,10 @@ of 1-D arrays otherwise. Errors raise common.InputError naming the file, the hea
 element item, and what was expected.
 """
 
-import os
-import tempfile
 
 import numpy as np
 
-from common import InputError, require_file
+from common import InputError, require_file, write_atomically
 
 TYPES = {
     "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
@@ -258,19 +256,13 @@ def write_binary(path, elements):
             record[prop_name] = values
         blocks.append(record.tobytes())
     header.append("end_header")
-    # Atomically: a temporary file in the same folder, renamed over `path` once complete.
-    folder = os.path.dirname(os.path.abspath(path))
-    handle, temporary = tempfile.mkstemp(prefix=".tmp-", suffix=".ply", dir=folder)
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(("\n".join(header) + "\n").encode("ascii"))
-            for block in blocks:
-                stream.write(block)
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.remove(temporary)
-        raise
+    # Atomically, mode 0644: a temporary file in the same folder, renamed over `path` once complete.
+    def write(stream):
+        stream.write(("\n".join(header) + "\n").encode("ascii"))
+        for block in blocks:
+            stream.write(block)
+
+    write_atomically(path, ".ply", write)
 
 
 __all__ = ["read", "write_binary", "Element", "Property", "TYPES"]

@@ -86,6 +86,7 @@ class ScriptCase(unittest.TestCase):
         self.assertGreater(float(np.var(image)), 1e-3, f"{path} looks blank")
         leftovers = [name for name in os.listdir(os.path.dirname(path)) if name.startswith(".tmp-")]
         self.assertEqual(leftovers, [])
+        self.assertEqual(os.stat(path).st_mode & 0o777, 0o644, path)
         return image
 
 
@@ -239,6 +240,7 @@ class PlyReaderTest(ScriptCase):
         np.testing.assert_array_equal(elements["face"]["cost"], np.array(layers["cost"], dtype=np.float32))
         np.testing.assert_array_equal(elements["face"]["unknown"], layers["unknown"])
         self.assertEqual(elements["face"]["lethal"].dtype, np.uint8)
+        self.assertEqual(os.stat(self.path("map", "traversability.ply")).st_mode & 0o777, 0o644)
 
     def test_ascii_big_endian_and_polygons_of_mixed_sizes(self):
         self.write("a.ply", "ply\nformat ascii 1.0\ncomment hi\nelement vertex 4\nproperty float x\n"

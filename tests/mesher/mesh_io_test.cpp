@@ -69,6 +69,19 @@ TEST_F(MeshIoTest, OutOfRangeIndexIsAnError) {
   EXPECT_THROW(readMesh(dir_ / "bad.off"), InputError);
 }
 
+TEST_F(MeshIoTest, AnAsciiListCountTooLargeForAnyListIsAnError) {
+  std::ofstream(dir_ / "count.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                       "property float y\nproperty float z\nelement face 1\n"
+                                       "property list uchar int vertex_indices\nend_header\n"
+                                       "0 0 0\n1 0 0\n1 1 0\n1.66667e+111 0 1 2\n";
+  try {
+    readMesh(dir_ / "count.ply");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("count above"), std::string::npos) << error.what();
+  }
+}
+
 TEST_F(MeshIoTest, MissingFileIsAnError) {
   EXPECT_THROW(readMesh(dir_ / "absent.ply"), InputError);
 }

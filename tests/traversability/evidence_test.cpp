@@ -191,7 +191,11 @@ TEST(EvidenceTest, OnDrivenGroundBridgesAreContradictedButWallsPlacedLaterCount)
     bridge.vertices = {{-3, 0.2, 0}, {3, 0.2, 0}, {3, 2.5, 1.0}, {-3, 2.5, 1.0}};
     bridge.faces = {{0, 1, 2}, {0, 2, 3}};
     test::appendMesh(mesh, bridge);
-    if (wall) test::appendMesh(mesh, test::thinWall(1.0, -1, 1.0, 1, 0, 1.0));
+    // The later wall as its points show it: 0.25 m tiles (on driven ground, a face supports an
+    // obstacle only near its vertices: evidence.obstacle_support_m).
+    for (double y = -1.0; wall && y < 1.0 - 1e-9; y += 0.25) {
+      for (double z = 0.0; z < 1.0 - 1e-9; z += 0.25) test::appendMesh(mesh, test::thinWall(1.0, y, 1.0, y + 0.25, z, z + 0.25));
+    }
     std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
     for (std::size_t f = 0; f < floor_faces; ++f) {
       bool on_strip = true;
@@ -216,6 +220,58 @@ TEST(EvidenceTest, OnDrivenGroundBridgesAreContradictedButWallsPlacedLaterCount)
     }
     EXPECT_GT(strip, 50u);
     if (wall) EXPECT_GT(blocked, 10u);
+  }
+}
+
+TEST(EvidenceTest, OnDrivenGroundOnlyTheSupportedPartsOfALongFaceAreObstacles) {
+  // A 6 m tall face rising steeply (73 deg) from y = 0.7 and leaning over the strip (the mesh
+  // spanning from a point at the road's edge to a facade point metres up): its part inside the
+  // body of a robot at y ~ 0.3 is 3 m from every vertex. Over measured floor it is an obstacle;
+  // over driven floor the robot's body swept that volume and nothing measured supports it there.
+  // Tiles of it 0.25 m across (points all along it) block the strip again, and so does the long
+  // face when its vertices are taken to support 100 m.
+  for (const int variant : {0, 1, 2, 3}) {  // 0: measured floor, 1: driven, 2: driven, tiled, 3: driven, 100 m
+    RobotProfile profile = smallWheeled();
+    if (variant == 3) profile.evidence.obstacle_support_m = 100;
+    mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+    const std::size_t floor_faces = mesh.faces.size();
+    const auto at = [](double x, double h) { return Eigen::Vector3d(x, 0.7 - 0.3 * h, h); };
+    mesher::TriangleMesh lean;
+    if (variant != 2) {
+      lean.vertices = {at(-3, 0), at(3, 0), at(0, 6)};
+      lean.faces = {{0, 1, 2}};
+    } else {
+      for (double x = -3; x < 3 - 1e-9; x += 0.25) {
+        for (double h = 0; h < 1.0 - 1e-9; h += 0.25) {
+          const auto base = static_cast<std::uint32_t>(lean.vertices.size());
+          for (const Eigen::Vector3d& p : {at(x, h), at(x + 0.25, h), at(x + 0.25, h + 0.25), at(x, h + 0.25)}) {
+            lean.vertices.push_back(p);
+          }
+          lean.faces.push_back({base, base + 1, base + 2});
+          lean.faces.push_back({base, base + 2, base + 3});
+        }
+      }
+    }
+    test::appendMesh(mesh, lean);
+    std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+    for (std::size_t f = 0; f < floor_faces && variant > 0; ++f) {
+      bool on_strip = true;
+      for (const auto& p : faces[f].positions_W) on_strip = on_strip && std::abs(p.y()) <= 1.0 + 1e-9;
+      faces[f].driven_vertices = on_strip ? 3 : 0;
+    }
+    const std::vector<FaceLayers> layers = layersOf(faces, profile);
+    std::size_t judged = 0;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      if (c.y() < 0.25 || c.y() > 0.4 || std::abs(c.x()) > 1.0) continue;
+      ++judged;
+      if (variant == 1) {
+        EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "driven, at (" << c.x() << ", " << c.y() << ")";
+      } else {
+        EXPECT_NE(layers[f].face_class, FaceClass::kFree) << "variant " << variant << " at (" << c.x() << ", " << c.y() << ")";
+      }
+    }
+    EXPECT_GT(judged, 20u);
   }
 }
 

@@ -1,6 +1,8 @@
-// Later obstacles win over the old drive (docs/traversability.md, "Trajectory evidence"): a SLAM
-// point first seen after the robot drove on, inside the body where it was, withdraws that drive's
-// evidence, in TrajectoryEvidence and in the mesher.
+// The drive against the SLAM points around it (docs/traversability.md, "Trajectory evidence"):
+// points it drove through or over are left out, the sweep between keyframes and the stations at a
+// drive's start; and later obstacles win over the old drive: a SLAM point first seen after the
+// robot drove on, inside the body where it was, withdraws that drive's evidence, in
+// TrajectoryEvidence and in the mesher.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -8,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "mesher/mesher.h"
@@ -52,10 +55,107 @@ std::size_t drivenCount(const mesher::Keyframe& keyframe) {
   return n;
 }
 
+TEST(DrivenSamplesTest, AKeyframeThatStartsADriveHasStationsBackToItsFootprintsRearEdge) {
+  // The car (4.8 m long) at its first keyframe stood on its whole footprint: besides its own
+  // cross-section, cross-sections at most 0.5 m apart back to 2.4 m behind it.
+  RobotProfile car;
+  car.footprint = FootprintShape::kRectangle;
+  car.footprint_length_m = 4.8;
+  car.footprint_width_m = 1.8;
+  TrajectoryEvidence evidence(car, Eigen::Vector3d::UnitZ(), 1.0, 1.65, Eigen::Vector3d::UnitZ(), {});
+  const mesher::Keyframe first = evidence.augment(cameraAt(1, {10, 0, 1.65}));
+  std::vector<Eigen::Vector3d> samples;
+  for (const auto& o : first.observations) {
+    if (isDrivenGroundId(o.point)) samples.push_back(o.position_W);
+  }
+  ASSERT_EQ(samples.size(), 5 * evidence.samplesPerKeyframe());  // its own and 4 stations
+  std::set<long> rows;
+  for (const Eigen::Vector3d& p : samples) {
+    EXPECT_NEAR(p.z(), 0.0, 1e-9);
+    EXPECT_LE(std::abs(p.y()), 0.9 + 1e-9);
+    rows.insert(std::lround((p.x() - 10.0) * 10));
+  }
+  EXPECT_EQ(rows, (std::set<long>{-24, -18, -12, -6, 0}));
+  // The next keyframe, 3 m on, has its stations between the two, as before.
+  const mesher::Keyframe second = evidence.augment(cameraAt(2, {13, 0, 1.65}));
+  double rear = 1e9;
+  for (const auto& o : second.observations) {
+    if (isDrivenGroundId(o.point) && ((o.point.value & ~kDrivenGroundIdBit) >> kDrivenSampleIndexBits) == 2) {
+      rear = std::min(rear, o.position_W.x());
+    }
+  }
+  EXPECT_GT(rear, 10.0);
+  EXPECT_LT(rear, 13.0);
+}
+
+TEST(DrivenSamplesTest, TheSweepSpansLongGapsAlongTheHeadingButNotAroundATurn) {
+  TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
+  evidence.augment(cameraAt(1, {0, 0, 1}));
+  evidence.augment(cameraAt(2, {8, 0, 1}));  // 8 m straight on: a car's keyframe gap
+  EXPECT_EQ(evidence.bodyViewsOf(mesher::KeyframeId{2}).size(), kBodyViewSlots);
+  // 8 m further, turned by 90 degrees: the straight line cuts the corner by about 1.6 m.
+  evidence.augment(cameraAt(3, {16, 0, 1}, Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE(evidence.bodyViewsOf(mesher::KeyframeId{3}).empty());
+  // 11 m on: beyond max_sweep_distance_m.
+  evidence.augment(cameraAt(4, {16, 11, 1}, Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE(evidence.bodyViewsOf(mesher::KeyframeId{4}).empty());
+}
+
+TEST(DrivenSamplesTest, PointsInsideTheBodyWhereTheRobotDroveAreDroppedForGood) {
+  // A 0.3 m disc robot (max_step 0.2 m, 1 m tall by default) with its sensor 1 m up: a point 0.5 m
+  // above the ground right under the sensor is inside its body (an outlier the robot drove
+  // through); a point on the ground under it is ground the drive measured (left out, absorbed);
+  // points above the robot, beside it or 0.15 m under its contact plane are not.
+  TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
+  const auto ids = [](const std::vector<mesher::PointId>& points) {
+    std::vector<std::uint64_t> values;
+    for (const mesher::PointId& id : points) values.push_back(id.value);
+    std::sort(values.begin(), values.end());
+    return values;
+  };
+  const auto kept = [](const mesher::Keyframe& keyframe) {
+    std::vector<std::uint64_t> values;
+    for (const auto& o : keyframe.observations) {
+      if (!isDrivenGroundId(o.point)) values.push_back(o.point.value);
+    }
+    return values;
+  };
+  mesher::Keyframe first = cameraAt(1, {0, 0, 1});
+  first.observations = {observation(10, {0.1, 0, 0.5}), observation(11, {0.1, 0, 0.01}), observation(12, {0, 0, 1.5}),
+                        observation(13, {0, 0.5, 0.5}), observation(14, {5, 0, 0.5}), observation(16, {0, 0.1, -0.15}),
+                        observation(17, {2.1, 0, 0.5}), observation(18, {2.1, 0.1, 0.02})};
+  EXPECT_EQ(kept(evidence.augment(first)), (std::vector<std::uint64_t>{12, 13, 14, 16, 17, 18}));
+  EXPECT_EQ(ids(evidence.newlyContradicted()), (std::vector<std::uint64_t>{10, 11}));
+  EXPECT_EQ(evidence.contradictedCount(), 1u);
+  EXPECT_EQ(evidence.absorbedCount(), 1u);
+  // Half way to the next keyframe the body passes the point at x = 1: contradicted then. Point 10,
+  // seen again, stays out (not newly contradicted); point 14 lies where the robot never was.
+  // Points 17 and 18 were seen from the first keyframe ahead of the robot; the second one's body
+  // reaches them (a forward camera does not see the road under the robot): left out now, though
+  // the second keyframe does not see them.
+  mesher::Keyframe second = cameraAt(2, {2, 0, 1});
+  second.observations = {observation(10, {0.1, 0, 0.5}), observation(15, {1, 0, 0.5}), observation(14, {5, 0, 0.5})};
+  EXPECT_EQ(kept(evidence.augment(second)), (std::vector<std::uint64_t>{14}));
+  EXPECT_EQ(ids(evidence.newlyContradicted()), (std::vector<std::uint64_t>{15, 17, 18}));
+  EXPECT_EQ(evidence.contradictedCount(), 3u);
+  EXPECT_EQ(evidence.absorbedCount(), 2u);
+  // An obstacle placed later where the robot once was (x = 0) is seen from keyframe 3, 20 m on.
+  mesher::Keyframe third = cameraAt(3, {20, 0, 1});
+  third.observations = {observation(20, {0.05, 0, 0.5})};
+  EXPECT_EQ(evidence.augment(third).observations.front().point.value, 20u);
+  EXPECT_TRUE(evidence.newlyContradicted().empty());
+  // A ground point seen later where the robot drove is ground the drive measured.
+  mesher::Keyframe fourth = cameraAt(4, {22, 0, 1});
+  fourth.observations = {observation(21, {1.5, 0.05, -0.03})};
+  EXPECT_EQ(kept(evidence.augment(fourth)), (std::vector<std::uint64_t>{}));
+  EXPECT_EQ(ids(evidence.newlyContradicted()), (std::vector<std::uint64_t>{21}));
+  EXPECT_EQ(evidence.absorbedCount(), 3u);
+}
+
 TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDrive) {
   TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
   for (std::uint64_t k = 1; k <= 5; ++k) evidence.augment(cameraAt(k, {2.0 * (k - 1), 0, 1}));
-  ASSERT_TRUE(evidence.bodyViewOf(mesher::KeyframeId{3}));
+  ASSERT_EQ(evidence.bodyViewsOf(mesher::KeyframeId{3}).size(), kBodyViewSlots);
   const std::size_t patch = evidence.samplesPerKeyframe();
   // From 20 m on: a point 0.5 m up where keyframe 3 (x = 4) stood, one beside the path, one on the
   // ground (below the step height), all seen for the first time.
@@ -67,14 +167,19 @@ TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDriv
   EXPECT_EQ(evidence.newlyOverridden()[0].value, 3u);
   EXPECT_EQ(evidence.newlyOverridden()[1].value, 2u);
   EXPECT_EQ(evidence.overriddenCount(), 2u);
-  EXPECT_TRUE(evidence.newlyContradicted().empty());
-  // The views of 3 and 2, and of 4 and 3, which stand at their bases.
+  // The point on the ground where keyframe 3 stood is ground the drive measured.
+  ASSERT_EQ(evidence.newlyContradicted().size(), 1u);
+  EXPECT_EQ(evidence.newlyContradicted().front().value, 102u);
+  // The views of 3 and 2, and of 4 and 3, which stand at their bases: every slot of each.
   std::vector<std::uint64_t> views;
-  for (const mesher::KeyframeId& id : evidence.newlyWithdrawnViews()) views.push_back(id.value & ~kBodyViewKeyframeBit);
+  for (const mesher::KeyframeId& id : evidence.newlyWithdrawnViews()) {
+    EXPECT_NE(id.value & kBodyViewKeyframeBit, 0u);
+    views.push_back(id.value & ((std::uint64_t{1} << kBodyViewSlotShift) - 1));
+  }
   std::sort(views.begin(), views.end());
-  EXPECT_EQ(views, (std::vector<std::uint64_t>{2, 3, 3, 4}));
-  for (std::uint64_t k : {2, 3, 4}) EXPECT_FALSE(evidence.bodyViewOf(mesher::KeyframeId{k})) << k;
-  EXPECT_TRUE(evidence.bodyViewOf(mesher::KeyframeId{5}));
+  EXPECT_EQ(views, (std::vector<std::uint64_t>{2, 2, 2, 3, 3, 3, 3, 3, 3, 4, 4, 4}));
+  for (std::uint64_t k : {2, 3, 4}) EXPECT_TRUE(evidence.bodyViewsOf(mesher::KeyframeId{k}).empty()) << k;
+  EXPECT_EQ(evidence.bodyViewsOf(mesher::KeyframeId{5}).size(), kBodyViewSlots);
   EXPECT_EQ(evidence.sampleIdsOf(mesher::KeyframeId{3}).size(), 4 * patch) << "its patch and 3 stations, to remove";
   // Re-sent, keyframe 3 carries no samples (nor a sweep); keyframe 4 its own but no sweep to 3's.
   EXPECT_EQ(drivenCount(evidence.augment(cameraAt(3, {4, 0, 1}))), 0u);
@@ -140,7 +245,7 @@ mesher::TriangleMesh meshBoxScene(bool later_obstacles_win, std::size_t& overrid
       if (!evidence.newlyContradicted().empty()) mesher.removePoints(evidence.newlyContradicted());
       for (const mesher::KeyframeId& id : evidence.newlyWithdrawnViews()) mesher.removeKeyframe(id);
       for (const mesher::KeyframeId& id : evidence.newlyOverridden()) mesher.removePoints(evidence.sampleIdsOf(id));
-      if (const auto view = evidence.bodyViewOf(keyframe.id)) mesher.integrateKeyframe(*view);
+      for (const mesher::Keyframe& view : evidence.bodyViewsOf(keyframe.id)) mesher.integrateKeyframe(view);
     }
   };
   lap(1, 0.0, {&ground_right});

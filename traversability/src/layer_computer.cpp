@@ -393,10 +393,13 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
       // Under driven ground the robot's body swept the volume above: a non-ground face anchored
       // on driven ground, or slanted through that volume (a bridge the mesh drew from the road to
       // something higher), is contradicted by the drive. Near-vertical faces still count there: an
-      // obstacle placed later (a parked car) stands on the road with vertical sides. Elsewhere a
-      // face anchored on driven ground is only a possible obstacle.
+      // obstacle placed later (a parked car) stands on the road with vertical sides, where its
+      // points support them (collectSupportedParts). Elsewhere a face anchored on driven ground is
+      // only a possible obstacle.
       const bool drive_contradicts = driven && (tg.touches_driven || tg.normal_z > kMaxBridgeNormalZ);
-      if (!drive_contradicts && clipToBody(tg, c, ref_a, ref_b, o)) {
+      if (driven && !drive_contradicts && !tg.interpolated) {
+        collectSupportedParts(tg, c, ref_a, ref_b);
+      } else if (!drive_contradicts && clipToBody(tg, c, ref_a, ref_b, o)) {
         o.possible = tg.interpolated || tg.touches_driven;
         o.extension_m = o.possible ? 0.0 : obstacleExtensionM(tg);
         obstacles_.push_back(o);

@@ -180,6 +180,12 @@ class LayerComputer {
   /// Clips face t (its sampling geometry) to the body of the face with centroid c and reference
   /// plane slopes (ref_a, ref_b); false if no part of it lies there.
   bool clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b, Obstacle& out) const;
+  /// Over driven ground: the parts of face `t` inside the body that its measured vertices above
+  /// the ground (higher than max_step_m over the reference plane) support, as measured obstacles:
+  /// the corner triangles within evidence.obstacle_support_m of each such vertex along its edges.
+  /// The rest of a long span is interpolated across the volume the robot's body swept: the drive
+  /// contradicts it.
+  void collectSupportedParts(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b) const;
   /// Per heading, the top of the highest measured obstacle (obstacles_) the footprint meets, 0 if
   /// none, for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp); and in
   /// possible_, per heading, whether the footprint at the centroid meets a possible obstacle or

@@ -58,6 +58,41 @@ bool LayerComputer::clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c
   return true;
 }
 
+void LayerComputer::collectSupportedParts(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a,
+                                          double ref_b) const {
+  const Eigen::Vector3d v[3] = {{t.x0, t.y0, t.z0}, {t.x0 + t.bx, t.y0 + t.by, t.z1}, {t.x0 + t.cx, t.y0 + t.cy, t.z2}};
+  const double support = profile_.evidence.obstacle_support_m;
+  for (int i = 0; i < 3; ++i) {
+    // A vertex on the ground says where the ground is, not that an obstacle rises from it.
+    const Eigen::Vector3d& a = v[i];
+    const double dx = a.x() - c.x(), dy = a.y() - c.y();
+    if (!(a.z() - c.z() - ref_a * dx - ref_b * dy > profile_.max_step_m)) continue;
+    // The corner triangle at vertex i: along each edge, as far as the support reaches.
+    const Eigen::Vector3d& b = v[(i + 1) % 3];
+    const Eigen::Vector3d& d = v[(i + 2) % 3];
+    const auto reach = [&](const Eigen::Vector3d& to) {
+      const double length = (to - a).norm();
+      return length > support ? a + (to - a) * (support / length) : to;
+    };
+    const Eigen::Vector3d b2 = reach(b), d2 = reach(d);
+    SampleGeometry corner = t;
+    corner.x0 = a.x();
+    corner.y0 = a.y();
+    corner.z0 = a.z();
+    corner.bx = b2.x() - a.x();
+    corner.by = b2.y() - a.y();
+    corner.z1 = b2.z();
+    corner.cx = d2.x() - a.x();
+    corner.cy = d2.y() - a.y();
+    corner.z2 = d2.z();
+    Obstacle o;
+    if (!clipToBody(corner, c, ref_a, ref_b, o)) continue;
+    o.possible = false;
+    o.extension_m = obstacleExtensionM(t);
+    obstacles_.push_back(o);
+  }
+}
+
 bool LayerComputer::unconfirmedInBody(const StoredFace& f, double ref_a, double ref_b, const Eigen::Vector3d& p,
                                       Eigen::Vector2d& offset) const {
   // Where the robot stands on the face closest to the point: a planner may put it anywhere on it.

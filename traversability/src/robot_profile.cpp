@@ -73,6 +73,8 @@ const std::vector<NumericKey>& numericKeys() {
        [](RobotProfile& p) -> double& { return p.evidence.obstacle_extension; }},
       {"evidence.max_obstacle_extension_m", {0, 100, false, false}, false,
        [](RobotProfile& p) -> double& { return p.evidence.max_obstacle_extension_m; }},
+      {"evidence.obstacle_support_m", {0, 100, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.obstacle_support_m; }},
       {"evidence.unconfirmed_point_extension_m", {0, 100, false, false}, false,
        [](RobotProfile& p) -> double& { return p.evidence.unconfirmed_point_extension_m; }},
       {"evidence.uncertain_cost", {0, 1, false, false}, false,
@@ -197,8 +199,8 @@ class ProfileReader {
       } else if (key == "evidence") {
         readSection(value, key,
                     {"point_noise_m", "relief_per_m_observed", "relief_per_m_unobserved", "driven_uncertainty_m",
-                     "obstacle_extension", "max_obstacle_extension_m", "unconfirmed_point_extension_m",
-                     "uncertain_cost"},
+                     "obstacle_extension", "max_obstacle_extension_m", "obstacle_support_m",
+                     "unconfirmed_point_extension_m", "uncertain_cost"},
                     profile);
       } else if (key == "sensor_height_m") {
         profile.sensor_height_m = readNumber(value, key, kSensorHeightRange);

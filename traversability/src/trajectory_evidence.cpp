@@ -50,6 +50,8 @@ void TrajectoryEvidenceConfig::validate() const {
   require(patch_fraction > 0 && patch_fraction <= 1, "patch_fraction", patch_fraction, "(0, 1]");
   require(max_sweep_distance_m >= 0 && max_sweep_distance_m <= 1000, "max_sweep_distance_m", max_sweep_distance_m,
           "[0, 1000]");
+  require(max_sweep_sagitta_m >= 0 && max_sweep_sagitta_m <= 100, "max_sweep_sagitta_m", max_sweep_sagitta_m,
+          "[0, 100]");
   require(station_spacing_m >= 0 && station_spacing_m <= 100, "station_spacing_m", station_spacing_m, "[0, 100]");
   require(layer_gap_m > 0 && layer_gap_m <= 100, "layer_gap_m", layer_gap_m, "(0, 100]");
   require(estimate_radius_m > 0 && estimate_radius_m <= 100, "estimate_radius_m", estimate_radius_m, "(0, 100]");
@@ -64,6 +66,8 @@ void TrajectoryEvidenceConfig::validate() const {
           "(0, 1000]");
   require(max_height_spread_m > 0 && max_height_spread_m <= 100, "max_height_spread_m", max_height_spread_m,
           "(0, 100]");
+  require(ground_absorb_band_m >= 0 && ground_absorb_band_m <= 10, "ground_absorb_band_m", ground_absorb_band_m,
+          "[0, 10]");
   require(disagreement_tolerance_m >= 0 && disagreement_tolerance_m <= 100, "disagreement_tolerance_m",
           disagreement_tolerance_m, "[0, 100]");
   if (problems.empty()) return;
@@ -73,12 +77,15 @@ void TrajectoryEvidenceConfig::validate() const {
 }
 
 struct TrajectoryEvidence::BodyIndex {
-  BodyIndex(const Eigen::Vector3d& up_W, double cell) : plane(up_W), cells(cell) {}
+  BodyIndex(const Eigen::Vector3d& up_W, double cell) : plane(up_W), cells(cell), point_cells(cell) {}
   internal::GroundPlane plane;
   /// Keyframe ids under the horizontal cell of each of their station bases (cell: the footprint's
   /// circumradius, so a body holding a point has its base in the 3 x 3 cells around it).
   internal::HorizontalGrid<std::uint64_t> cells;
   std::unordered_set<std::uint64_t> seen_points;
+  /// The latest position of every SLAM point seen and not left out, and their ids by cell.
+  std::unordered_map<std::uint64_t, Eigen::Vector3d> positions_W;
+  internal::HorizontalGrid<std::uint64_t> point_cells;
 };
 
 TrajectoryEvidence::~TrajectoryEvidence() = default;
@@ -116,8 +123,10 @@ TrajectoryEvidence::TrajectoryEvidence(const RobotProfile& profile, const Eigen:
   radius_m_ = profile.footprint_radius_m;
   half_length_m_ = 0.5 * profile.footprint_length_m;
   half_width_m_ = 0.5 * profile.footprint_width_m;
+  rear_m_ = disc_ ? radius_m_ : half_length_m_;
   body_low_m_ = profile.max_step_m;
   body_high_m_ = profile.min_clearance_m;
+  absorb_band_m_ = std::min(config_.ground_absorb_band_m, profile.max_step_m);
   bodies_ = std::make_unique<BodyIndex>(up_W_, profile.footprintCircumradiusM() / metres_per_unit_);
   if (layout_B_m_.size() > kMaxDrivenSamplesPerKeyframe) {
     throw std::invalid_argument("trajectory evidence: " + std::to_string(layout_B_m_.size()) +
@@ -171,21 +180,76 @@ bool TrajectoryEvidence::insideBody(const Eigen::Isometry3d& T_W_B, const Eigen:
   return std::abs(p_B.x()) <= half_length_m_ && std::abs(p_B.y()) <= half_width_m_;
 }
 
-void TrajectoryEvidence::dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B) {
+bool TrajectoryEvidence::onDrivenGround(const Eigen::Isometry3d& T_W_B, const Eigen::Vector3d& p_W) const {
+  if (!(absorb_band_m_ > 0)) return false;
+  const Eigen::Vector3d p_B = (T_W_B.inverse() * p_W) * metres_per_unit_;
+  if (!(std::abs(p_B.z()) <= absorb_band_m_)) return false;
+  const double f = config_.patch_fraction;
+  if (disc_) return p_B.head<2>().norm() <= f * radius_m_;
+  return std::abs(p_B.x()) <= f * half_length_m_ && std::abs(p_B.y()) <= f * half_width_m_;
+}
+
+bool TrajectoryEvidence::onRecordedDrivenGround(const Eigen::Vector3d& p_W) const {
+  if (!(absorb_band_m_ > 0)) return false;
+  bool found = false;
+  bodies_->cells.around(bodies_->plane.project(p_W), [&](std::uint64_t id) {
+    if (found || overridden_.count(id) != 0) return;
+    const Pose& pose = poses_.at(id);
+    for (std::size_t station = 0; station <= pose.stations && !found; ++station) {
+      found = onDrivenGround(baseAt(stationPose(pose, station)), p_W);
+    }
+  });
+  return found;
+}
+
+void TrajectoryEvidence::leaveOut(mesher::PointId id, bool absorbed) {
+  if (!contradicted_.insert(id.value).second) return;
+  absorbed_count_ += absorbed ? 1 : 0;
+  newly_contradicted_.push_back(id);
+  const auto it = bodies_->positions_W.find(id.value);
+  if (it == bodies_->positions_W.end()) return;
+  bodies_->point_cells.erase(bodies_->plane.project(it->second), id.value);
+  bodies_->positions_W.erase(it);
+}
+
+void TrajectoryEvidence::dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B,
+                                          std::size_t new_bodies) {
   newly_contradicted_.clear();
+  // The points seen before, under the bodies new with this keyframe (its own and its stations').
+  std::vector<std::pair<std::uint64_t, bool>> found;
+  for (std::size_t b = 0; b < new_bodies && b < bodies_W_B.size(); ++b) {
+    const Eigen::Isometry3d& T_W_B = bodies_W_B[b];
+    bodies_->point_cells.around(bodies_->plane.project(T_W_B.translation()), [&](std::uint64_t id) {
+      const Eigen::Vector3d& p_W = bodies_->positions_W.at(id);
+      if (insideBody(T_W_B, p_W)) found.emplace_back(id, false);
+      else if (onDrivenGround(T_W_B, p_W)) found.emplace_back(id, true);
+    });
+  }
+  for (const auto& [id, absorbed] : found) leaveOut(mesher::PointId{id}, absorbed);
+  // The points this keyframe sees: inside a body of this keyframe's drive, or on any drive's ground.
+  const auto left_out = [&](const mesher::PointObservation& o) {
+    if (contradicted_.count(o.point.value) != 0) return true;
+    for (const Eigen::Isometry3d& T_W_B : bodies_W_B) {
+      const bool inside = insideBody(T_W_B, o.position_W);
+      if (!inside && !onDrivenGround(T_W_B, o.position_W)) continue;
+      leaveOut(o.point, !inside);
+      return true;
+    }
+    if (!onRecordedDrivenGround(o.position_W)) return false;
+    leaveOut(o.point, true);
+    return true;
+  };
   auto& observations = keyframe.observations;
-  observations.erase(std::remove_if(observations.begin(), observations.end(),
-                                    [&](const mesher::PointObservation& o) {
-                                      if (contradicted_.count(o.point.value) != 0) return true;
-                                      for (const Eigen::Isometry3d& T_W_B : bodies_W_B) {
-                                        if (!insideBody(T_W_B, o.position_W)) continue;
-                                        contradicted_.insert(o.point.value);
-                                        newly_contradicted_.push_back(o.point);
-                                        return true;
-                                      }
-                                      return false;
-                                    }),
-                     observations.end());
+  observations.erase(std::remove_if(observations.begin(), observations.end(), left_out), observations.end());
+  for (const mesher::PointObservation& o : observations) {
+    auto [it, added] = bodies_->positions_W.try_emplace(o.point.value, o.position_W);
+    if (!added) {
+      if (it->second == o.position_W) continue;
+      bodies_->point_cells.erase(bodies_->plane.project(it->second), o.point.value);
+      it->second = o.position_W;
+    }
+    bodies_->point_cells.add(bodies_->plane.project(o.position_W), o.point.value);
+  }
 }
 
 void TrajectoryEvidence::indexBodies(mesher::KeyframeId id, const Pose& pose, bool add) {
@@ -219,11 +283,13 @@ void TrajectoryEvidence::findLaterObstacles(const mesher::Keyframe& keyframe, st
 void TrajectoryEvidence::overrideDrive(std::uint64_t id, bool with_previous) {
   if (!overridden_.insert(id).second) return;
   newly_overridden_.push_back(mesher::KeyframeId{id});
-  newly_withdrawn_views_.push_back(bodyViewId(mesher::KeyframeId{id}));
+  for (const mesher::KeyframeId& view : bodyViewIds(mesher::KeyframeId{id})) newly_withdrawn_views_.push_back(view);
   const Pose& pose = poses_.at(id);
   // The keyframe sent after it has its body view at this one's base.
   const auto after = by_order_.upper_bound(pose.order);
-  if (after != by_order_.end()) newly_withdrawn_views_.push_back(bodyViewId(after->second));
+  if (after != by_order_.end()) {
+    for (const mesher::KeyframeId& view : bodyViewIds(after->second)) newly_withdrawn_views_.push_back(view);
+  }
   if (with_previous && pose.has_previous && poses_.count(pose.previous_id) != 0) overrideDrive(pose.previous_id, false);
 }
 
@@ -285,24 +351,36 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   if (before != by_order_.begin() && config_.max_sweep_distance_m > 0) {
     const mesher::KeyframeId id = std::prev(before)->second;
     const Pose& candidate = poses_.at(id.value);
-    if ((candidate.position_W - pose.position_W).norm() * metres_per_unit_ <= config_.max_sweep_distance_m) {
+    const double distance_m = (candidate.position_W - pose.position_W).norm() * metres_per_unit_;
+    const Eigen::Vector3d forward = baseAt(pose).linear().col(0), before_forward = baseAt(candidate).linear().col(0);
+    const double turn = std::atan2(forward.cross(before_forward).norm(), forward.dot(before_forward));
+    if (distance_m <= config_.max_sweep_distance_m && distance_m * turn / 8.0 <= config_.max_sweep_sagitta_m) {
       previous.emplace(id, candidate);
     }
+  }
+  if (known == poses_.end()) {
+    pose.stations = previous ? stationsFor((previous->second.position_W - pose.position_W).norm() * metres_per_unit_)
+                             : stationsFor(rear_m_);
   }
   if (previous) {
     pose.previous_position_W = previous->second.position_W;
     pose.previous_rotation_W_C = previous->second.rotation_W_C;
+  } else {
+    // The start of a drive: the robot stood on its whole footprint, so its stations run back to
+    // the footprint's rear edge (the last one on it) from a pose behind it, along its heading.
+    const double n = static_cast<double>(pose.stations);
+    const double back_m = pose.stations > 0 ? rear_m_ * (n + 1) / n : 0.0;
+    pose.previous_position_W = pose.position_W - baseAt(pose).linear().col(0) * (back_m / metres_per_unit_);
+    pose.previous_rotation_W_C = pose.rotation_W_C;
   }
   pose.has_previous = previous.has_value();
   pose.previous_id = previous ? previous->first.value : 0;
-  if (known == poses_.end()) {
-    pose.stations = previous ? stationsFor((previous->second.position_W - pose.position_W).norm() * metres_per_unit_) : 0;
-  }
   // Where the body was: at this keyframe, at its stations, half way and at the one before it.
   std::vector<Eigen::Isometry3d> bodies{baseAt(pose)};
   for (std::size_t station = 1; station <= pose.stations; ++station) {
     bodies.push_back(baseAt(stationPose(pose, station)));
   }
+  const std::size_t new_bodies = bodies.size();
   if (previous) {
     bodies.push_back(baseAt(previous->second));
     Pose half = pose;
@@ -310,7 +388,7 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
     bodies.push_back(baseAt(half));
   }
   const std::vector<mesher::PointObservation> own = samplesAt(keyframe.id, pose);  // throws before any change
-  dropContradicted(augmented, bodies);
+  dropContradicted(augmented, bodies, new_bodies);
   newly_overridden_.clear();
   newly_withdrawn_views_.clear();
   findLaterObstacles(augmented, previous ? previous->second.order : pose.order);
@@ -342,22 +420,30 @@ std::vector<mesher::PointId> TrajectoryEvidence::sampleIdsOf(mesher::KeyframeId 
   return ids;
 }
 
-std::optional<mesher::Keyframe> TrajectoryEvidence::bodyViewOf(mesher::KeyframeId id) const {
+std::vector<mesher::Keyframe> TrajectoryEvidence::bodyViewsOf(mesher::KeyframeId id) const {
   const auto it = poses_.find(id.value);
   if (it == poses_.end() || !it->second.has_previous || overridden_.count(id.value) != 0 ||
       overridden_.count(it->second.previous_id) != 0) {
-    return std::nullopt;
+    return {};
   }
   Pose previous = it->second;
   previous.position_W = it->second.previous_position_W;
   previous.rotation_W_C = it->second.previous_rotation_W_C;
+  const Eigen::Isometry3d T_W_B = baseAt(previous);
   const double height_m = std::min(body_high_m_, sensor_height_m_);
-  mesher::Keyframe view;
-  view.id = bodyViewId(id);
-  view.position_W_C = baseAt(previous) * Eigen::Vector3d(0, 0, height_m / metres_per_unit_);
-  view.rotation_W_C = previous.rotation_W_C;
-  view.observations = samplesAt(id, it->second);
-  return view;
+  const double side_m = disc_ ? radius_m_ : half_width_m_;
+  const std::vector<mesher::PointObservation> samples = samplesAt(id, it->second);
+  // Slot 0 on the centre line, 1 on the left (+y), 2 on the right.
+  const double lateral_m[kBodyViewSlots] = {0.0, side_m, -side_m};
+  std::vector<mesher::Keyframe> views(kBodyViewSlots);
+  for (std::uint64_t slot = 0; slot < kBodyViewSlots; ++slot) {
+    mesher::Keyframe& view = views[slot];
+    view.id = bodyViewId(id, slot);
+    view.position_W_C = T_W_B * (Eigen::Vector3d(0, lateral_m[slot], height_m) / metres_per_unit_);
+    view.rotation_W_C = previous.rotation_W_C;
+    view.observations = samples;
+  }
+  return views;
 }
 
 std::vector<mesher::PointId> TrajectoryEvidence::remove(mesher::KeyframeId id) {

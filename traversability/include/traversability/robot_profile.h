@@ -38,6 +38,10 @@ struct EvidenceModel {
   /// wall's free end, a rock seen from one side), up to `max_obstacle_extension_m`.
   double obstacle_extension = 0.5;
   double max_obstacle_extension_m = 0.5;
+  /// Over driven ground, a measured face supports an obstacle within this distance of its
+  /// vertices along its edges; the rest of a longer span, across the volume the robot's body
+  /// swept, is interpolated and contradicted by the drive.
+  double obstacle_support_m = 0.5;
   /// A SLAM point the mesher did not insert (fewer than its `min_views` keyframes saw it:
   /// mesher::Mesher::unconfirmedPoints) inside a face's body is a possible obstacle this far
   /// around it (a rock seen by one keyframe: its size unknown).
@@ -128,7 +132,8 @@ struct RobotProfile {
 ///   (0, 20], a non-zero quaternion; sensor_height_m, if given too, equal to z),
 ///   evidence: {point_noise_m [0, 10], relief_per_m_observed [0, 10], relief_per_m_unobserved
 ///   [0, 10], driven_uncertainty_m [0, 10], obstacle_extension [0, 10], max_obstacle_extension_m
-///   [0, 100], unconfirmed_point_extension_m [0, 100], uncertain_cost [0, 1]}.
+///   [0, 100], obstacle_support_m [0, 100], unconfirmed_point_extension_m [0, 100], uncertain_cost
+///   [0, 1]}.
 /// The shipped profiles (traversability/robots/*.yaml) repeat it in their header comment.
 /// @throw terramesh::InputError naming the file, the key (and line), the value and the allowed
 ///        range or type.

@@ -33,12 +33,25 @@ inline constexpr std::uint64_t kMaxDrivenKeyframeId = (std::uint64_t{1} << (63 -
 /// Whether `id` is in the range reserved for driven-ground samples.
 inline bool isDrivenGroundId(mesher::PointId id) { return (id.value & kDrivenGroundIdBit) != 0; }
 
-/// Keyframe ids with this bit set are body views (TrajectoryEvidence::bodyViewOf): the body view
-/// of keyframe k has id kBodyViewKeyframeBit | k. SLAM keyframe ids stay below it (they are at most
-/// kMaxDrivenKeyframeId).
+/// Keyframe ids with this bit set are body views (TrajectoryEvidence::bodyViewsOf): view `slot` of
+/// keyframe k has id kBodyViewKeyframeBit | slot << kBodyViewSlotShift | k. SLAM keyframe ids stay
+/// below the slot bits (they are at most kMaxDrivenKeyframeId).
 inline constexpr std::uint64_t kBodyViewKeyframeBit = std::uint64_t{1} << 63;
-/// The id of keyframe `id`'s body view.
-inline mesher::KeyframeId bodyViewId(mesher::KeyframeId id) { return mesher::KeyframeId{kBodyViewKeyframeBit | id.value}; }
+inline constexpr int kBodyViewSlotShift = 61;
+/// Body views per keyframe: slot 0 on the body's centre line, slots 1 and 2 at its left and right
+/// sides (their rays reach the upper corners of the body's cross-section, which rays from the
+/// centre line leave out).
+inline constexpr std::uint64_t kBodyViewSlots = 3;
+/// The id of view `slot` of keyframe `id`.
+inline mesher::KeyframeId bodyViewId(mesher::KeyframeId id, std::uint64_t slot = 0) {
+  return mesher::KeyframeId{kBodyViewKeyframeBit | slot << kBodyViewSlotShift | id.value};
+}
+/// The ids of every body view keyframe `id` can have (to remove them: the mesher ignores unknown ids).
+inline std::vector<mesher::KeyframeId> bodyViewIds(mesher::KeyframeId id) {
+  std::vector<mesher::KeyframeId> ids;
+  for (std::uint64_t slot = 0; slot < kBodyViewSlots; ++slot) ids.push_back(bodyViewId(id, slot));
+  return ids;
+}
 
 /// How trajectory evidence is estimated, checked and sampled. Lengths in metres.
 struct TrajectoryEvidenceConfig {
@@ -50,12 +63,17 @@ struct TrajectoryEvidenceConfig {
   double patch_fraction = 1.0;
   /// Each keyframe also observes the samples of the keyframe sent before it, when their sensor
   /// positions are at most this far apart: those rays sweep the body volume between the two
-  /// (0: no sweep).
-  double max_sweep_distance_m = 5.0;
+  /// (0: no sweep). (A car's SLAM keyframes are often 5-8 m apart.)
+  double max_sweep_distance_m = 10.0;
+  /// ... and when the straight line between them stays near the arc the robot drove: the arc's
+  /// sagitta, distance x heading change / 8, at most this.
+  double max_sweep_sagitta_m = 0.25;
   /// The robot also drove between two keyframes within `max_sweep_distance_m`: the later one
   /// carries patches at stations along the way, at most this far apart along the path, or the
   /// patch's own length if that is longer (0: no stations). A keyframe keeps the number of
   /// stations it was first given; re-sent, it places them between its new pose and the one before.
+  /// A keyframe with no keyframe before it within reach starts a drive: the robot stood on its
+  /// whole footprint, so its stations run back to the footprint's rear edge instead.
   double station_spacing_m = 0.5;
 
   // Estimating the sensor height (lower envelope of the points under the path).
@@ -88,6 +106,12 @@ struct TrajectoryEvidenceConfig {
   /// A given mounting disagrees with the data when it is further than this (or 3 spreads) from
   /// the estimate.
   double disagreement_tolerance_m = 0.1;
+
+  /// SLAM points inside the footprint where the robot drove and within this height of the contact
+  /// plane (at most max_step_m above it) are the ground the drive measured: they are left out,
+  /// for good, and the driven samples stand for that ground (their noise would otherwise make
+  /// steps on the road the robot has just driven). 0: none.
+  double ground_absorb_band_m = 0.1;
 
   /// Later obstacles win over the old drive: a SLAM point first seen after the robot drove on,
   /// inside the body where the robot was two or more keyframes before, withdraws that keyframe's
@@ -191,28 +215,36 @@ class TrajectoryEvidence {
   ///        keyframe id exceeds kMaxDrivenKeyframeId; nothing is recorded then.
   mesher::Keyframe augment(const mesher::Keyframe& keyframe);
 
-  /// The body view of a keyframe augment() has recorded, when it was sent after a keyframe within
-  /// `max_sweep_distance_m`: a keyframe with id bodyViewId(id) whose centre is in the robot's body,
-  /// `min_clearance_m` (at most the sensor height) above the previous keyframe's base (as recorded
-  /// with this one), observing this keyframe's samples: its own patch and its stations. Its rays
-  /// run inside the body volume swept between the two, from behind and low, where the sensor's
-  /// own rays (from above and ahead) leave closing faces over the driven strip. Nothing when the
-  /// keyframe is unknown or had no previous keyframe near enough (remove an earlier body view then).
-  std::optional<mesher::Keyframe> bodyViewOf(mesher::KeyframeId id) const;
+  /// The body views of a keyframe augment() has recorded, when it was sent after a keyframe within
+  /// `max_sweep_distance_m`: kBodyViewSlots keyframes with ids bodyViewId(id, slot), each with its
+  /// centre in the robot's body, `min_clearance_m` (at most the sensor height) above the previous
+  /// keyframe's base (as recorded with this one): on the centre line, and at the left and right
+  /// edges of the footprint (the disc's radius, the rectangle's half width). Each observes this
+  /// keyframe's samples: its own patch and its stations. Their rays run inside the body volume
+  /// swept between the two, from behind and low, where the sensor's own rays (from above and
+  /// ahead) leave closing faces over the driven strip and up its sides. Empty when the keyframe is
+  /// unknown or had no previous keyframe near enough (remove earlier body views then).
+  std::vector<mesher::Keyframe> bodyViewsOf(mesher::KeyframeId id) const;
 
   /// Forgets keyframe `id` and returns the ids of its samples (to remove from the mesher after
   /// removing the keyframe: the next keyframe still observes them). Empty if it is unknown.
   std::vector<mesher::PointId> remove(mesher::KeyframeId id);
 
-  /// The points the last augment() found inside the robot's body (between max_step_m and
-  /// min_clearance_m above the contact plane, within the footprint) at the keyframe, at the one
-  /// before it (the sweep) or half way: the robot drove through them, so they are outliers. They
-  /// were not contradicted before; remove them from the mesher (an earlier keyframe may have
-  /// inserted them). An obstacle placed on the road later is made of other points, seen when the
-  /// robot is elsewhere: it stays.
+  /// The points the last augment() left out for good; remove them from the mesher (an earlier
+  /// keyframe may have inserted them):
+  /// - inside the robot's body (between max_step_m and min_clearance_m above the contact plane,
+  ///   within the footprint) at the keyframe, at its stations, at the one before it (the sweep) or
+  ///   half way: the robot drove through them, so they are outliers. Both the points this keyframe
+  ///   sees and those seen before (a forward camera sees the road ahead, not under the robot).
+  ///   An obstacle placed on the road later is made of other points, seen when the robot is
+  ///   elsewhere: it stays (newlyOverridden).
+  /// - on the ground it drove: within `ground_absorb_band_m` of the contact plane inside the
+  ///   footprint at any of the drive's stations; the driven samples stand for that ground.
   const std::vector<mesher::PointId>& newlyContradicted() const { return newly_contradicted_; }
-  /// How many points the drive has contradicted so far.
-  std::size_t contradictedCount() const { return contradicted_.size(); }
+  /// How many points the drive has contradicted (inside the body) so far.
+  std::size_t contradictedCount() const { return contradicted_.size() - absorbed_count_; }
+  /// How many points on the driven ground the drive has stood for so far.
+  std::size_t absorbedCount() const { return absorbed_count_; }
 
   /// The keyframes whose drive the last augment() found overridden by an obstacle seen later:
   /// a SLAM point it saw for the first time lies inside the body at one of their stations, and
@@ -264,8 +296,17 @@ class TrajectoryEvidence {
   Eigen::Isometry3d baseAt(const Pose& pose) const;
   /// Whether p_W lies inside the robot's body with its base at T_W_B.
   bool insideBody(const Eigen::Isometry3d& T_W_B, const Eigen::Vector3d& p_W) const;
-  /// Leaves the contradicted points out of `keyframe` (poses: where the body was).
-  void dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B);
+  /// Whether p_W lies on the driven ground under the footprint with its base at T_W_B (within
+  /// the absorb band of the contact plane).
+  bool onDrivenGround(const Eigen::Isometry3d& T_W_B, const Eigen::Vector3d& p_W) const;
+  /// Whether p_W lies on the driven ground of any recorded keyframe's station.
+  bool onRecordedDrivenGround(const Eigen::Vector3d& p_W) const;
+  /// Leaves `id` out for good (on the driven ground: `absorbed`).
+  void leaveOut(mesher::PointId id, bool absorbed);
+  /// Leaves the contradicted points out of `keyframe` (poses: where the body was), checks the
+  /// points seen before against the new bodies, and records the positions of the rest.
+  void dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B,
+                        std::size_t new_bodies);
   /// Marks overridden the keyframes sent before `before_order` with a body containing one of the
   /// points `keyframe` sees for the first time.
   void findLaterObstacles(const mesher::Keyframe& keyframe, std::uint64_t before_order);
@@ -286,7 +327,12 @@ class TrajectoryEvidence {
   bool disc_ = true;
   double patch_length_m_ = 0;  ///< the layout's extent along x, metres
   double radius_m_ = 0, half_length_m_ = 0, half_width_m_ = 0, body_low_m_ = 0, body_high_m_ = 0;
+  double absorb_band_m_ = 0;
+  /// How far the footprint reaches behind the base (a keyframe that starts a drive has stations
+  /// back to there), metres.
+  double rear_m_ = 0;
   std::unordered_set<std::uint64_t> contradicted_;
+  std::size_t absorbed_count_ = 0;
   std::vector<mesher::PointId> newly_contradicted_;
   /// Keyframe ids by the horizontal cell of their station bases, and the SLAM points seen so far.
   struct BodyIndex;
