@@ -62,7 +62,9 @@ void addOptions(CLI::App& app, CompareOptions& o) {
   app.add_option("INPUT", o.input, "SLAM stream (any format `terramesh mesh` reads)")->required();
   app.add_option("-o,--output", o.output, "output directory (created if missing)")->required();
   app.add_option("--gt", o.gt, "ground truth: a labelled mesh (ground_truth.ply of terramesh generate)");
-  app.add_option("--views", o.views, "with --gt: camera poses to render truth depth from (default: trajectory.txt beside GT)");
+  app.add_option("--views", o.views,
+                 "with --gt: camera poses (KITTI format) to render truth depth from (default: trajectory.txt beside "
+                 "GT if there is one, else the stream's own keyframe poses)");
   app.add_option("--gt-lidar", o.gt_lidar, "ground truth: a KITTI odometry sequence (velodyne/*.bin, calib.txt)");
   app.add_option("--gt-poses", o.gt_poses, "with --gt-lidar: its KITTI poses (cam0-to-world)");
   app.add_option("--gt-frames", o.gt_frames, "with --gt-lidar: scans of frames A to B (inclusive)")->capture_default_str();
@@ -106,6 +108,54 @@ std::vector<datasets::EvaluationView> readViews(const std::filesystem::path& pat
     views.push_back({poses[i].translation(), Eigen::Quaterniond(poses[i].linear())});
   }
   return views;
+}
+
+/// The stream's keyframes as views in the truth's frame: the last pose sent for each id (removed
+/// keyframes dropped), mapped by `to_truth` (positions) and `rotate` (camera-to-world rotations);
+/// every `step`-th.
+template <class ToTruth, class Rotate>
+std::vector<datasets::EvaluationView> streamViews(const datasets::SlamStream& stream, std::size_t step,
+                                                  const ToTruth& to_truth, const Rotate& rotate) {
+  std::map<mesher::KeyframeId, datasets::EvaluationView> latest;
+  for (const datasets::StreamEvent& event : stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+      latest[keyframe->id] = {to_truth(keyframe->position_W_C), rotate(keyframe->rotation_W_C)};
+    }
+    if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) latest.erase(removal->keyframe);
+  }
+  std::vector<datasets::EvaluationView> views;
+  std::size_t i = 0;
+  for (const auto& [id, view] : latest) {
+    if (i++ % step == 0) views.push_back(view);
+  }
+  return views;
+}
+
+/// The views file for --gt: --views (which must exist), else trajectory.txt beside the truth if
+/// there is one, else empty (the stream's own keyframes).
+std::filesystem::path viewsFile(const CompareOptions& o) {
+  if (o.views) {
+    if (!std::filesystem::is_regular_file(*o.views)) throw UsageError("compare: no views file " + *o.views);
+    return *o.views;
+  }
+  const std::filesystem::path beside = std::filesystem::path(*o.gt).parent_path() / "trajectory.txt";
+  return std::filesystem::is_regular_file(beside) ? beside : std::filesystem::path();
+}
+
+/// The views the truth is rendered from (viewsFile, or the stream's keyframes in the truth's
+/// frame), and how the report names them.
+std::pair<std::vector<datasets::EvaluationView>, std::string> truthViews(
+    const CompareOptions& o, const std::filesystem::path& views_path, const datasets::SlamStream& stream,
+    const std::optional<datasets::SimilarityTransform>& sim3, double metres_per_unit) {
+  if (!views_path.empty()) return {readViews(views_path, o.view_step), "`" + views_path.string() + "`"};
+  const auto rotate = [&](const Eigen::Quaterniond& q) { return sim3 ? sim3->apply(q) : q; };
+  const auto position = [&](const Eigen::Vector3d& p) {
+    return sim3 ? sim3->apply(p) : Eigen::Vector3d(p * metres_per_unit);
+  };
+  std::vector<datasets::EvaluationView> views = streamViews(stream, o.view_step, position, rotate);
+  if (views.empty()) throw InputError(o.input, "keyframes", "no keyframe poses to render the truth from (give --views FILE)");
+  const std::string text = "the stream's " + std::to_string(views.size()) + " keyframe poses";
+  return {std::move(views), text};
 }
 
 /// Keyframe centres, the last pose sent for each id (removed keyframes dropped).
@@ -162,12 +212,7 @@ int runCompare(const std::vector<std::string>& args) {
   std::optional<traversability::RobotProfile> profile;
   if (o.robot) profile = traversability::loadRobotProfile(*o.robot);
   std::filesystem::path views_path;
-  if (o.gt) {
-    views_path = o.views ? std::filesystem::path(*o.views) : std::filesystem::path(*o.gt).parent_path() / "trajectory.txt";
-    if (!std::filesystem::is_regular_file(views_path)) {
-      throw UsageError("compare: no views file " + views_path.string() + " (give --views FILE)");
-    }
-  }
+  if (o.gt) views_path = viewsFile(o);
   const Eigen::Vector3d up_W = baselines::streamUp(stream);
 
   const std::filesystem::path out = o.output;
@@ -217,9 +262,10 @@ int runCompare(const std::vector<std::string>& args) {
   if (o.gt) {
     labelled = datasets::readLabeledPly(*o.gt);
     if (labelled->mesh.faces.empty()) throw InputError(*o.gt, "faces", "the ground truth has no faces");
-    truth = baselines::GeometryTruth::fromMesh(labelled->mesh, readViews(views_path, o.view_step), truth_config);
-    setup.truth = "mesh `" + *o.gt + "` rendered from `" + views_path.string() + "` (" +
-                  std::to_string(truth->truthRays()) + " rays)";
+    const auto [views, views_text] = truthViews(o, views_path, stream, sim3, proposed.metres_per_unit);
+    if (views_path.empty()) say("views: " + views_text + " (no --views, no trajectory.txt beside " + *o.gt + ")");
+    truth = baselines::GeometryTruth::fromMesh(labelled->mesh, views, truth_config);
+    setup.truth = "mesh `" + *o.gt + "` rendered from " + views_text + " (" + std::to_string(truth->truthRays()) + " rays)";
   } else if (o.gt_lidar) {
     datasets::LidarTruthOptions options;
     options.poses_path = *o.gt_poses;
