@@ -160,13 +160,9 @@ std::pair<std::vector<datasets::EvaluationView>, std::string> truthViews(
 
 /// Keyframe centres, the last pose sent for each id (removed keyframes dropped).
 std::vector<Eigen::Vector3d> keyframeCentres(const datasets::SlamStream& stream) {
-  std::map<mesher::KeyframeId, Eigen::Vector3d> latest;
-  for (const datasets::StreamEvent& event : stream.events) {
-    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) latest[keyframe->id] = keyframe->position_W_C;
-    if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) latest.erase(removal->keyframe);
-  }
+  const auto same = [](const auto& x) { return x; };
   std::vector<Eigen::Vector3d> centres;
-  for (const auto& [id, centre] : latest) centres.push_back(centre);
+  for (const datasets::EvaluationView& view : streamViews(stream, 1, same, same)) centres.push_back(view.centre_W);
   return centres;
 }
 
