@@ -38,23 +38,39 @@ work="$dir/fuzz"
 mkdir -p "$work/artifacts"
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+# Targets run side by side, TERRAMESH_JOBS at a time (each is one process); the table keeps their order.
+jobs="${TERRAMESH_JOBS:-$(nproc)}"
+run_target() {
+  local target="$1" corpus="$work/corpus/$1" status=0
+  mkdir -p "$corpus"
+  "$dir/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout="$timeout" \
+    -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$work/artifacts/$target-" "$corpus" "$source_dir/tests/fuzz/corpus/$target" \
+    >"$work/$target.log" 2>&1 || status=$?
+  echo "$status" >"$work/$target.status"
+}
+running=0
+for target in "${targets[@]}"; do
+  rm -f "$work/$target.status"
+  run_target "$target" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+done
+wait
 failed=()
 total=0
 printf '%-15s %8s %12s %10s %8s  %s\n' target seconds executions "exec/s" corpus result
 for target in "${targets[@]}"; do
-  corpus="$work/corpus/$target"
   log="$work/$target.log"
-  mkdir -p "$corpus"
-  status=0
-  "$dir/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout="$timeout" \
-    -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$work/artifacts/$target-" "$corpus" "$source_dir/tests/fuzz/corpus/$target" \
-    >"$log" 2>&1 || status=$?
+  status=$(cat "$work/$target.status" 2>/dev/null || echo "?")
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  units=$(find "$corpus" -type f | wc -l)
+  units=$(find "$work/corpus/$target" -type f | wc -l)
   result=ok
-  if [ "$status" -ne 0 ]; then
+  if [ "$status" != 0 ]; then
     result="FAILED (exit $status, log $log)"
     failed+=("$target")
   fi

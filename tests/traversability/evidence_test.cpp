@@ -178,6 +178,46 @@ TEST(EvidenceTest, ASparseRampConfirmedAlongItsSlopeIsFree) {
   EXPECT_GT(inner, 10u);
 }
 
+TEST(EvidenceTest, ASlopeJustUnderTheLimitIsFreeOnlyWhereMeasuredPointsConfirmItFarEnough) {
+  // 18.5 degrees, under small_wheeled's 20 degree limit. With 3 cm of point noise, a plane confirmed
+  // over 0.75 m (points 0.25 m apart: a face and the neighbour vertices on its plane) may be 22.5
+  // degrees steep: uncertain, never lethal (what was measured is under the limit). Confirmed over
+  // several metres (points 1.5 m apart on one plane), the worst case stays under 20 degrees: free.
+  const RobotProfile profile = smallWheeled();
+  const double t = std::tan(18.5 * M_PI / 180.0);
+  const auto ramp_at = [t](double x, double) { return t * std::clamp(x, -4.5, 4.5); };
+  const mesher::TriangleMesh dense = test::heightFieldMesh(-3, 3, -3, 3, 0.25, ramp_at);
+  const std::vector<FaceLayers> near = layersOf(facesOf(dense, 4), profile);
+  std::size_t inner = 0;
+  for (std::size_t f = 0; f < dense.faces.size(); ++f) {
+    if (centroid(dense, f).head<2>().cwiseAbs().maxCoeff() > 2.0) continue;
+    ++inner;
+    EXPECT_NEAR(near[f].slope_deg, 18.5, 0.01);
+    EXPECT_EQ(near[f].evidence, Evidence::kMeasured);
+    EXPECT_EQ(near[f].face_class, FaceClass::kUncertain) << "face " << f;
+  }
+  EXPECT_GT(inner, 100u);
+  const mesher::TriangleMesh sparse = test::heightFieldMesh(-6, 6, -6, 6, 1.5, ramp_at);
+  const std::vector<FaceLayers> far = layersOf(facesOf(sparse, 4), profile);
+  inner = 0;
+  for (std::size_t f = 0; f < sparse.faces.size(); ++f) {
+    const Eigen::Vector3d c = centroid(sparse, f);
+    if (std::abs(c.x()) > 3.0 || std::abs(c.y()) > 4.0) continue;
+    ++inner;
+    EXPECT_EQ(far[f].face_class, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+  }
+  EXPECT_GT(inner, 10u);
+  // A noisier sensor (10 cm) cannot vouch for it even over metres.
+  RobotProfile noisy = profile;
+  noisy.evidence.point_noise_m = 0.1;
+  const std::vector<FaceLayers> doubted = layersOf(facesOf(sparse, 4), noisy);
+  for (std::size_t f = 0; f < sparse.faces.size(); ++f) {
+    const Eigen::Vector3d c = centroid(sparse, f);
+    if (std::abs(c.x()) > 3.0 || std::abs(c.y()) > 4.0) continue;
+    EXPECT_EQ(doubted[f].face_class, FaceClass::kUncertain) << "at (" << c.x() << ", " << c.y() << ")";
+  }
+}
+
 TEST(EvidenceTest, OnDrivenGroundBridgesAreContradictedButWallsPlacedLaterCount) {
   // A driven strip (every vertex a driven sample) for |y| < 1 and measured floor beyond. A slanted
   // face from the strip's edge up to 1 m at y = 2.5 (the mesh bridging the road to a car roof)

@@ -99,6 +99,9 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
       band_down_m_(std::max(profile.min_clearance_m, 2.0 * profile.max_step_m)),
       clearance_search_m_(std::max(3.0 * profile.min_clearance_m, 5.0)),
       cos_max_slope_(std::cos(profile.max_slope_deg * M_PI / 180.0)),
+      short_side_m_(profile.footprint == FootprintShape::kDisc
+                        ? 2.0 * profile.footprint_radius_m
+                        : std::min(profile.footprint_length_m, profile.footprint_width_m)),
       footprint_area_m2_(profile.footprint == FootprintShape::kDisc
                              ? M_PI * profile.footprint_radius_m * profile.footprint_radius_m
                              : profile.footprint_length_m * profile.footprint_width_m) {
@@ -502,7 +505,9 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   }
   f.footprint_fits = best.fits;
   f.footprint_fits_worst = fits_worst;
-  f.rise_confirmed = riseConfirmed(store, s);
+  const SlopeSupport support = slopeSupport(store, s);
+  f.rise_confirmed = support.rise_confirmed;
+  f.slope_extent_m = static_cast<float>(support.extent_m);
   f.heading_contact = static_cast<float>(best.contact);
   layers.step_m = static_cast<float>(best.step_m);
   layers.roughness_m = static_cast<float>(best.roughness_m);

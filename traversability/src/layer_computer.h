@@ -131,9 +131,14 @@ class LayerComputer {
   /// on measured evidence, too low a clearance, or the footprint fits at no heading.
   bool lethal(const StoredFace& face) const;
   /// Whether a known face that is not lethal is uncertain: the evidence cannot decide (an
-  /// interpolated face too steep, a possible step, a footprint that fits only as reconstructed,
-  /// an unknown ceiling lower than the robot).
+  /// interpolated face too steep, a possible step, a slope that may exceed max_slope, a footprint
+  /// that fits only as reconstructed, an unknown ceiling lower than the robot).
   bool uncertain(const StoredFace& face) const;
+  /// Whether a face no steeper than max_slope could be steeper in the worst case: its slope with
+  /// the points at either end off by their noise (evidence.point_noise_m) in opposite directions,
+  /// over the extent along the slope that measured points confirm (slopeSupport), but at least
+  /// the footprint's short side. Never for driven faces.
+  bool slopeMayExceed(const StoredFace& face) const;
   /// Sets face_class and cost from the local layers and `lethal_distance_m`.
   void classify(StoredFace& face) const;
   /// Inflation term in [0, 1] of a geodesic distance to the nearest lethal face (Nav2 decay).
@@ -226,11 +231,17 @@ class LayerComputer {
                              double own_relief_m, bool driven) const;
   /// How far the measured obstacle face t may extend beyond what was measured of it.
   double obstacleExtensionM(const SampleGeometry& t) const;
-  /// Whether face s rises no more than max_step_m between its vertices, or its plane is confirmed
-  /// beyond it along its slope: a measured vertex of an edge neighbour, farther up or down the
-  /// slope than the face's own vertices, within the point noise of the plane. Reads only s and its
-  /// edge neighbours (which TraversabilityMap re-judges with it).
-  bool riseConfirmed(const SurfaceStore& store, Slot s) const;
+  /// What supports face s's slope: whether it rises no more than max_step_m between its vertices
+  /// or its plane is confirmed beyond it along its slope (a measured vertex of an edge neighbour,
+  /// farther up or down the slope than the face's own vertices, within the point noise of the
+  /// plane), and the extent along the slope that its own vertices and those confirming ones span
+  /// (infinite for walls and level faces). Reads only s and its edge neighbours (which
+  /// TraversabilityMap re-judges with it).
+  struct SlopeSupport {
+    bool rise_confirmed = true;
+    double extent_m = std::numeric_limits<double>::infinity();
+  };
+  SlopeSupport slopeSupport(const SurfaceStore& store, Slot s) const;
 
   /// Per footprint offset (x, y): the products its row (x, y, 1) adds to a plane fit's normal
   /// matrix (x x, x y, x, y y, y; the 1 is added as 1).
@@ -268,6 +279,7 @@ class LayerComputer {
   double band_down_m_;
   double clearance_search_m_;
   double cos_max_slope_;
+  double short_side_m_;  ///< the footprint's shorter extent (a disc's diameter), metres
   double footprint_area_m2_;
   /// Scratch (computeLocal is not thread-safe): ground candidates; per sample the reference
   /// height, the best ground height (NaN: none) and whether that ground is level.

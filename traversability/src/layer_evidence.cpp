@@ -51,14 +51,14 @@ double LayerComputer::obstacleExtensionM(const SampleGeometry& t) const {
   return std::min(m.obstacle_extension * t.span_m, m.max_obstacle_extension_m);
 }
 
-bool LayerComputer::riseConfirmed(const SurfaceStore& store, Slot s) const {
+LayerComputer::SlopeSupport LayerComputer::slopeSupport(const SurfaceStore& store, Slot s) const {
   const StoredFace& f = store.face(s);
-  if (!(f.max_z - f.min_z > profile_.max_step_m)) return true;
+  SlopeSupport out;
   const Eigen::Vector3d& n = f.normal_L;
-  if (!(n.z() > LayerComputer::kMinGroundNormalZ)) return true;  // a wall: judged as one
+  if (!(n.z() > LayerComputer::kMinGroundNormalZ)) return out;  // a wall: judged as one
   // The plane z = c.z + a x + b y and its direction of ascent.
   const Eigen::Vector2d gradient(-n.x() / n.z(), -n.y() / n.z());
-  if (!(gradient.norm() > 0)) return true;
+  if (!(gradient.norm() > 0)) return out;  // level: no slope to doubt
   const Eigen::Vector2d up_slope = gradient.normalized();
   const Eigen::Vector3d& c = f.centroid_L;
   double lo = 0, hi = 0;
@@ -68,6 +68,7 @@ bool LayerComputer::riseConfirmed(const SurfaceStore& store, Slot s) const {
     hi = std::max(hi, d);
   }
   const double tolerance = 2.0 * profile_.evidence.point_noise_m + 0.01;
+  bool beyond = false;
   store.neighbours(s, neighbours_);
   for (Slot t : neighbours_) {
     const StoredFace& g = store.face(t);
@@ -79,11 +80,16 @@ bool LayerComputer::riseConfirmed(const SurfaceStore& store, Slot s) const {
       const Eigen::Vector2d offset = p.head<2>() - c.head<2>();
       const double along = up_slope.dot(offset);
       const double extent = 1e-6 * (1.0 + hi - lo);
-      if (along < hi + extent && along > lo - extent) continue;  // beside the face, not beyond it
-      if (std::abs(p.z() - (c.z() + gradient.dot(offset))) <= tolerance) return true;
+      if (along < hi + extent && along > lo - extent) continue;  // beside the face (or the part confirmed)
+      if (std::abs(p.z() - (c.z() + gradient.dot(offset))) > tolerance) continue;
+      beyond = true;
+      lo = std::min(lo, along);
+      hi = std::max(hi, along);
     }
   }
-  return false;
+  out.rise_confirmed = !(f.max_z - f.min_z > profile_.max_step_m) || beyond;
+  out.extent_m = hi - lo;
+  return out;
 }
 
 bool LayerComputer::lethal(const StoredFace& face) const {
@@ -101,6 +107,17 @@ bool LayerComputer::lethal(const StoredFace& face) const {
   return too_steep || !face.footprint_fits || l.clearance_m < profile_.min_clearance_m;
 }
 
+bool LayerComputer::slopeMayExceed(const StoredFace& face) const {
+  const FaceLayers& l = face.layers;
+  if (l.evidence == Evidence::kDriven || !(l.slope_deg <= profile_.max_slope_deg)) return false;
+  // Each point may be off by its noise: one end up and the other down tilts the plane by 2 noise
+  // over the baseline, the extent along the slope on which measured points confirm the plane, but
+  // at least the footprint's short side (the robot stands on a plane that spans its footprint).
+  const double baseline_m = std::max(static_cast<double>(face.slope_extent_m), short_side_m_);
+  const double gradient = std::tan(l.slope_deg * M_PI / 180.0) + 2.0 * profile_.evidence.point_noise_m / baseline_m;
+  return gradient > std::tan(profile_.max_slope_deg * M_PI / 180.0);
+}
+
 bool LayerComputer::uncertain(const StoredFace& face) const {
   const FaceLayers& l = face.layers;
   const bool interpolated = l.evidence == Evidence::kInterpolated;
@@ -109,7 +126,8 @@ bool LayerComputer::uncertain(const StoredFace& face) const {
   // it, it is no ramp (unless driven, or the plane is confirmed beyond it along the slope).
   const bool possible_step = l.evidence != Evidence::kDriven && !steep &&
                              (interpolated ? face.max_z - face.min_z > profile_.max_step_m : !face.rise_confirmed);
-  return (interpolated && steep) || possible_step || !face.footprint_fits_worst || face.clearance_unknown_low;
+  return (interpolated && steep) || possible_step || slopeMayExceed(face) || !face.footprint_fits_worst ||
+         face.clearance_unknown_low;
 }
 
 double LayerComputer::inflationTerm(double distance_m) const {

@@ -59,6 +59,10 @@ struct StoredFace {
   /// edge neighbour beyond it along its slope lies on its plane (a ramp, not a step hidden in
   /// the span).
   bool rise_confirmed = true;
+  /// Set with the local layers: the extent along the slope, metres, over which the face's own
+  /// vertices and the measured points of edge neighbours on its plane confirm it (infinite for
+  /// walls and level faces).
+  float slope_extent_m = std::numeric_limits<float>::infinity();
 
   /// Height of the face's plane at horizontal position (x, y), if (x, y) lies in the face's
   /// horizontal projection and the face is not vertical.
