@@ -23,7 +23,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 using evaluation::CellKey;
 using CellHash = evaluation::CellKeyHash;
-CellKey keyOf(const Eigen::Vector3d& p, double cell) { return evaluation::cellKeyOf(p, cell); }
+CellKey keyOf(const Eigen::Vector3d& p, double cell) { return geometry::cellOf(p, cell); }
 
 /// Area-weighted centroids of the traversable truth faces, one per cell.
 std::vector<Eigen::Vector3d> traversableSamples(const evaluation::GroundTruthTraversability& labels, double cell) {
@@ -47,7 +47,7 @@ std::vector<Eigen::Vector3d> traversableSamples(const evaluation::GroundTruthTra
   for (const auto& [key, sum] : cells) sorted.emplace_back(key, sum.first / sum.second);
   // Deterministic order, whatever the hash table did.
   std::sort(sorted.begin(), sorted.end(), [](const auto& l, const auto& r) {
-    return std::tie(l.first.x, l.first.y, l.first.z) < std::tie(r.first.x, r.first.y, r.first.z);
+    return std::tie(l.first.i, l.first.j, l.first.k) < std::tie(r.first.i, r.first.j, r.first.k);
   });
   std::vector<Eigen::Vector3d> samples;
   samples.reserve(sorted.size());
@@ -87,7 +87,7 @@ std::vector<std::vector<std::pair<std::uint32_t, double>>> linkSamples(const std
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = grid.find({k.x + dx, k.y + dy, k.z + dz});
+          const auto it = grid.find({k.i + dx, k.j + dy, k.k + dz});
           if (it == grid.end()) continue;
           for (std::uint32_t j : it->second) {
             const double d = (samples[j] - samples[i]).norm();

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/atomic_file.h"
+#include "common/plan_frame.h"
 
 namespace terramesh::cli {
 
@@ -71,9 +72,9 @@ void writeTopView(const std::filesystem::path& path, const mesher::TriangleMesh&
                   const std::vector<traversability::FaceLayers>* layers, const Eigen::Vector3d& up_W,
                   std::size_t max_faces) {
   const Eigen::Vector3d up = up_W.normalized();
-  Eigen::Vector3d x = std::abs(up.x()) > std::cos(30.0 * M_PI / 180.0) ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
-  x = (x - x.dot(up) * up).normalized();
-  const Eigen::Vector3d y = up.cross(x);
+  const geometry::PlanFrame frame = geometry::planFrame(up, geometry::exportFrameRule());
+  const Eigen::Vector3d& x = frame.e1;
+  const Eigen::Vector3d& y = frame.e2;
   const bool flags = mesh.is_steiner.size() == mesh.vertices.size();
   std::vector<std::size_t> chosen;
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {

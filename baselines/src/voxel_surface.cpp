@@ -12,6 +12,7 @@
 #include <unordered_set>
 #include <variant>
 
+#include "common/grid_key.h"
 #include "common/input_error.h"
 #include "planning/octomap_baseline.h"
 
@@ -59,10 +60,11 @@ OctomapBuild buildOctomap(const datasets::SlamStream& stream, double resolution_
 
 namespace {
 
+/// geometry::spatialHash3 of the sign-extended indices.
 struct KeyHash {
   std::size_t operator()(const std::array<int, 3>& k) const noexcept {
-    return (static_cast<std::size_t>(k[0]) * 73856093u) ^ (static_cast<std::size_t>(k[1]) * 19349663u) ^
-           (static_cast<std::size_t>(k[2]) * 83492791u);
+    return static_cast<std::size_t>(geometry::spatialHash3(
+        static_cast<std::uint64_t>(k[0]), static_cast<std::uint64_t>(k[1]), static_cast<std::uint64_t>(k[2])));
   }
 };
 

@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
+
+#include "common/plan_frame.h"
 
 namespace terramesh::evaluation {
 namespace {
@@ -36,9 +39,7 @@ double segmentDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 ColumnIndex::ColumnIndex(const mesher::TriangleMesh& mesh, const Eigen::Vector3d& up_W, double cell_size)
     : mesh_(mesh), up_(up_W.normalized()), cell_(cell_size) {
-  const Eigen::Vector3d helper = std::abs(up_.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  east_ = up_.cross(helper).normalized();
-  north_ = up_.cross(east_);
+  std::tie(east_, north_) = acrossBasis(up_);
   min_height_.resize(mesh.faces.size());
   max_height_.resize(mesh.faces.size());
   stamp_.assign(mesh.faces.size(), 0);
@@ -65,9 +66,8 @@ ColumnIndex::ColumnIndex(const mesher::TriangleMesh& mesh, const Eigen::Vector3d
 }
 
 std::pair<Eigen::Vector3d, Eigen::Vector3d> ColumnIndex::acrossBasis(const Eigen::Vector3d& axis) {
-  const Eigen::Vector3d helper = std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d first = axis.cross(helper).normalized();
-  return {first, axis.cross(first)};
+  const geometry::PlanFrame frame = geometry::planFrame(axis, geometry::acrossFrameRule());
+  return {frame.e1, frame.e2};
 }
 
 bool ColumnIndex::faceInColumn(std::uint32_t face, const Column& column, std::vector<Eigen::Vector2d>& shadow) const {

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/grid_key.h"
 #include "mesher/triangle_mesh.h"
 
 namespace terramesh::evaluation {
@@ -46,9 +47,7 @@ class ColumnIndex {
   template <typename Visit>
   void forEachCandidate(const Column& column, Visit visit);
   /// The low 32 bits of i and j side by side (shifted as unsigned: i may be negative).
-  std::int64_t key(long i, long j) const {
-    return static_cast<std::int64_t>((std::uint64_t{static_cast<std::uint32_t>(i)} << 32) | static_cast<std::uint32_t>(j));
-  }
+  std::int64_t key(long i, long j) const { return static_cast<std::int64_t>(geometry::packCell2(i, j)); }
   /// The shadow of the part of `face` in the slab, if it comes within the radius.
   bool faceInColumn(std::uint32_t face, const Column& column, std::vector<Eigen::Vector2d>& shadow) const;
 

@@ -68,7 +68,7 @@ void joinAcrossEdges(const mesher::TriangleMesh& mesh, const std::vector<std::ui
     }
   }
   const double cell = longest;
-  auto keyOf = [cell](const Edge& e) { return cellKeyOf(0.5 * (e.a + e.b), cell); };
+  auto keyOf = [cell](const Edge& e) { return geometry::cellOf(Eigen::Vector3d(0.5 * (e.a + e.b)), cell); };
   std::unordered_map<CellKey, std::vector<std::uint32_t>, CellKeyHash> cells;
   for (std::uint32_t e = 0; e < edges.size(); ++e) cells[keyOf(edges[e])].push_back(e);
   for (std::uint32_t e = 0; e < edges.size(); ++e) {
@@ -79,7 +79,7 @@ void joinAcrossEdges(const mesher::TriangleMesh& mesh, const std::vector<std::ui
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = cells.find({k.x + dx, k.y + dy, k.z + dz});
+          const auto it = cells.find({k.i + dx, k.j + dy, k.k + dz});
           if (it == cells.end()) continue;
           for (const std::uint32_t o : it->second) {
             const Edge& q = edges[o];

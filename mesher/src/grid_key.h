@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <functional>
 
+#include "common/grid_key.h"
+
 namespace terramesh::mesher::internal {
 
 /// Integer index of a Steiner-grid cell (or of a lattice node, depending on context).
@@ -18,13 +20,12 @@ struct GridKey {
   friend bool operator!=(const GridKey& a, const GridKey& b) { return !(a == b); }
 };
 
+/// geometry::spatialHash3 of the indices zero-extended from 32 bits.
 struct GridKeyHash {
   std::size_t operator()(const GridKey& key) const noexcept {
-    // Large odd multipliers spread neighbouring keys over the table.
-    const std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.i)) * 73856093u ^
-                            static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.j)) * 19349663u ^
-                            static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.k)) * 83492791u;
-    return static_cast<std::size_t>(h);
+    return static_cast<std::size_t>(geometry::spatialHash3(static_cast<std::uint32_t>(key.i),
+                                                           static_cast<std::uint32_t>(key.j),
+                                                           static_cast<std::uint32_t>(key.k)));
   }
 };
 

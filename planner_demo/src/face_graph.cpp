@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "geometry.h"
+#include "common/closest_point.h"
 
 namespace terramesh::planning {
 
@@ -175,7 +175,9 @@ std::optional<SurfaceLocation> FaceGraph::snap(const Eigen::Vector3d& query_W, d
   std::optional<SurfaceLocation> result;
   for (std::uint32_t f : walkable_faces_) {
     const auto& t = faces_[f];
-    const Eigen::Vector3d p = closestPointOnTriangle(query_W, vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]);
+    // Walkable faces have a non-zero normal: Ericson's regions without the zero-area test.
+    const Eigen::Vector3d p = geometry::closestPointOnTriangle(
+        query_W, vertices_[t[0]], vertices_[t[1]], vertices_[t[2]], geometry::DegenerateTriangles::kUnchecked);
     const double d2 = (p - query_W).squaredNorm();
     if (d2 < best || (!result && d2 <= best)) {
       best = d2;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/plan_frame.h"
 #include "geometry.h"
 
 namespace terramesh::planning::internal {
@@ -35,9 +36,8 @@ SurfaceLocation pointAlong(const SurfaceWalk& walk, double t) {
 
 /// Two unit vectors spanning the plane orthogonal to n.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> tangentBasis(const Eigen::Vector3d& n) {
-  const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d e1 = n.cross(helper).normalized();
-  return {e1, n.cross(e1)};
+  const geometry::PlanFrame frame = geometry::planFrame(n, geometry::acrossFrameRule());
+  return {frame.e1, frame.e2};
 }
 
 }  // namespace

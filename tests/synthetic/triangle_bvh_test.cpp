@@ -187,25 +187,6 @@ TEST(TriangleBvhTest, DoublePrecisionFarFromTheOrigin) {
   EXPECT_GT(hits, 200);
 }
 
-TEST(TriangleBvhTest, ClosestPointOnTriangleMatchesDenseSampling) {
-  const Eigen::Vector3d a(0, 0, 0), b(2, 0, 0), c(0, 1, 0);
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> unit(-1.0, 3.0);
-  for (int i = 0; i < 200; ++i) {
-    const Eigen::Vector3d p(unit(rng), unit(rng), unit(rng));
-    const double distance = (closestPointOnTriangle(p, a, b, c) - p).norm();
-    double best = 1e300;
-    for (int s = 0; s <= 200; ++s) {
-      for (int t = 0; s + t <= 200; ++t) best = std::min(best, (a + s / 200.0 * (b - a) + t / 200.0 * (c - a) - p).norm());
-    }
-    EXPECT_LE(distance, best + 1e-12);
-    EXPECT_GE(distance, best - 0.02);  // the sampling grid is 1/100 m
-  }
-  // A zero-area triangle is its edges.
-  EXPECT_NEAR((closestPointOnTriangle({1, 1, 0}, a, b, Eigen::Vector3d(1, 0, 0)) - Eigen::Vector3d(1, 0, 0)).norm(), 0.0,
-              1e-15);
-}
-
 TEST(TriangleBvhTest, ClosedCubeIsWatertightThroughVerticesAndEdges) {
   const int n = 6;
   const TriangleMesh cube = gridCube(n);

@@ -1,7 +1,7 @@
 #pragma once
 
-// Horizontal geometry shared by the trajectory evidence's parts (internal): the frame check, the
-// plane orthogonal to up and a horizontal bucket grid.
+// Horizontal geometry shared by the trajectory evidence's parts (internal): the frame check and a
+// horizontal bucket grid in the plan frame of up (common/plan_frame.h).
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -11,6 +11,9 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include "common/grid_key.h"
+#include "common/plan_frame.h"
 
 namespace terramesh::traversability::internal {
 
@@ -24,25 +27,13 @@ inline void requireFrame(const Eigen::Vector3d& up_W, double metres_per_unit) {
   }
 }
 
-/// Horizontal coordinates in a plane orthogonal to up.
-struct GroundPlane {
-  Eigen::Vector3d up, e1, e2;
-
-  explicit GroundPlane(const Eigen::Vector3d& up_W) : up(up_W) {
-    const Eigen::Vector3d seed = std::abs(up.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    e1 = (seed - seed.dot(up) * up).normalized();
-    e2 = up.cross(e1);
-  }
-  Eigen::Vector2d project(const Eigen::Vector3d& p) const { return {p.dot(e1), p.dot(e2)}; }
-};
-
 /// Values (point indices, keyframe ids) bucketed by the horizontal grid cell of a position.
 template <class Value>
 class HorizontalGrid {
  public:
   explicit HorizontalGrid(double cell) : cell_(cell) {}
   /// Point i's index under its position (cell size = the search radius).
-  HorizontalGrid(const std::vector<Eigen::Vector3d>& points, const GroundPlane& plane, double cell)
+  HorizontalGrid(const std::vector<Eigen::Vector3d>& points, const geometry::PlanFrame& plane, double cell)
       : cell_(cell) {
     for (std::size_t i = 0; i < points.size(); ++i) add(plane.project(points[i]), static_cast<Value>(i));
   }
@@ -94,9 +85,7 @@ class HorizontalGrid {
     };
     return {index(p.x()), index(p.y())};
   }
-  static std::uint64_t pack(std::int64_t x, std::int64_t y) {
-    return (static_cast<std::uint64_t>(x) << 32) ^ (static_cast<std::uint64_t>(y) & 0xffffffffull);
-  }
+  static std::uint64_t pack(std::int64_t x, std::int64_t y) { return geometry::packCell2(x, y); }
   std::uint64_t key(const Eigen::Vector2d& p) const {
     const auto [x, y] = cellOf(p);
     return pack(x, y);

@@ -10,6 +10,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "common/plan_frame.h"
 #include "plan_geometry.h"
 #include "traversability/map_levels.h"
 
@@ -124,11 +125,10 @@ MapPlane MapPlane::fromUp(const Eigen::Vector3d& up_W, double metres_per_unit) {
   }
   MapPlane plane;
   plane.metres_per_unit = metres_per_unit;
-  plane.z_W = up_W.normalized();
-  Eigen::Vector3d reference = Eigen::Vector3d::UnitX();
-  if (std::abs(reference.dot(plane.z_W)) > std::cos(30.0 * M_PI / 180.0)) reference = Eigen::Vector3d::UnitY();
-  plane.x_W = (reference - reference.dot(plane.z_W) * plane.z_W).normalized();
-  plane.y_W = plane.z_W.cross(plane.x_W);
+  const geometry::PlanFrame frame = geometry::planFrame(up_W.normalized(), geometry::exportFrameRule());
+  plane.x_W = frame.e1;
+  plane.y_W = frame.e2;
+  plane.z_W = frame.up;
   return plane;
 }
 
@@ -267,7 +267,7 @@ Levels segmentLevels(const LayeredMesh& map, const MapPlane& plane, const LevelC
     if (levels.walkable[f] || final_cells.empty()) continue;
     const FacePlan& p = plans[f];
     if (!p.valid || p.up_cosine < min_up_cosine) continue;
-    const CellKey lo = internal::cellOf(p.min_m, cell), hi = internal::cellOf(p.max_m, cell);
+    const CellKey lo = geometry::cellOf(p.min_m, cell), hi = geometry::cellOf(p.max_m, cell);
     const std::int64_t span = (hi.i - lo.i + 1 + 2 * reach) * (hi.j - lo.j + 1 + 2 * reach);
     if (span > 4'000'000) continue;  // a closing face of the whole map: no level owns it
     double best_distance = std::numeric_limits<double>::infinity(), best_foot = best_distance;

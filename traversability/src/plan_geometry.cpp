@@ -36,11 +36,6 @@ FacePlan planFace(const mesher::TriangleMesh& mesh, std::size_t face, const MapP
   return p;
 }
 
-CellKey cellOf(const Eigen::Vector2d& point_m, double cell_m) {
-  return {static_cast<std::int64_t>(std::floor(point_m.x() / cell_m)),
-          static_cast<std::int64_t>(std::floor(point_m.y() / cell_m))};
-}
-
 bool squareTouchesTriangle(const Eigen::Vector2d& lo, double size, const std::array<Eigen::Vector2d, 3>& t) {
   const Eigen::Vector2d hi = lo + Eigen::Vector2d(size, size);
   const Eigen::Vector2d tmin = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
@@ -86,7 +81,7 @@ double heightAt(const FacePlan& face, const Eigen::Vector2d& point_m) {
 std::vector<std::pair<CellKey, HeightRange>> cellHeightRanges(const FacePlan& face, double cell_m) {
   std::vector<std::pair<CellKey, HeightRange>> result;
   if (!face.valid) return result;
-  const CellKey lo = cellOf(face.min_m, cell_m), hi = cellOf(face.max_m, cell_m);
+  const CellKey lo = geometry::cellOf(face.min_m, cell_m), hi = geometry::cellOf(face.max_m, cell_m);
   const bool has_area = face.plan_area_m2 > 1e-9;
   for (std::int64_t i = lo.i; i <= hi.i; ++i) {
     for (std::int64_t j = lo.j; j <= hi.j; ++j) {

@@ -8,23 +8,15 @@
 #include <utility>
 #include <vector>
 
+#include "common/grid_key.h"
 #include "mesher/triangle_mesh.h"
 #include "traversability/map_levels.h"
 
 namespace terramesh::traversability::internal {
 
 /// A cell of a square plan grid: floor(x / size), floor(y / size).
-struct CellKey {
-  std::int64_t i = 0;
-  std::int64_t j = 0;
-  friend bool operator==(const CellKey& a, const CellKey& b) { return a.i == b.i && a.j == b.j; }
-};
-
-struct CellKeyHash {
-  std::size_t operator()(const CellKey& key) const noexcept {
-    return static_cast<std::size_t>(key.i) * 0x9E3779B97F4A7C15ull ^ static_cast<std::size_t>(key.j);
-  }
-};
+using CellKey = geometry::CellKey2;
+using CellKeyHash = geometry::CellKey2Hash;
 
 /// A closed height interval, metres.
 struct HeightRange {
@@ -50,8 +42,6 @@ struct FacePlan {
 };
 
 FacePlan planFace(const mesher::TriangleMesh& mesh, std::size_t face, const MapPlane& plane);
-
-CellKey cellOf(const Eigen::Vector2d& point_m, double cell_m);
 
 /// True if the interiors of the square [lo, lo + size]^2 and the triangle intersect (SAT; touching
 /// along a boundary does not count).

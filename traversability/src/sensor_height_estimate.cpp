@@ -18,7 +18,6 @@
 namespace terramesh::traversability {
 namespace {
 
-using internal::GroundPlane;
 using internal::HorizontalGrid;
 using internal::requireFrame;
 
@@ -78,7 +77,7 @@ SensorHeightEstimate estimateSensorHeight(const std::vector<Eigen::Vector3d>& se
                                           double metres_per_unit, const TrajectoryEvidenceConfig& config) {
   config.validate();
   requireFrame(up_W, metres_per_unit);
-  const GroundPlane plane(up_W);
+  const geometry::PlanFrame plane = geometry::planFrame(up_W);
   const double radius = config.estimate_radius_m / metres_per_unit;
   const HorizontalGrid<std::uint32_t> grid(points_W, plane, radius);
   SensorHeightEstimate estimate;

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <Eigen/Geometry>
 
+#include "common/grid_key.h"
+
 namespace terramesh::traversability::internal {
 
 SurfaceStore::SurfaceStore(const Eigen::Matrix3d& R_L_W, double metres_per_unit, double cell_m,
@@ -20,10 +22,7 @@ SurfaceStore::CellKey SurfaceStore::centroidCellKey(const Eigen::Vector3d& c) co
   return cellKey(centroidCellIndex(c.x()), centroidCellIndex(c.y()));
 }
 
-SurfaceStore::CellKey SurfaceStore::cellKey(std::int64_t i, std::int64_t j) const {
-  const auto pack = [](std::int64_t x) { return static_cast<std::uint64_t>(x + (std::int64_t{1} << 31)) & 0xffffffffull; };
-  return pack(i) | (pack(j) << 32);
-}
+SurfaceStore::CellKey SurfaceStore::cellKey(std::int64_t i, std::int64_t j) const { return geometry::packCell2(i, j); }
 
 Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   remove(input.key);

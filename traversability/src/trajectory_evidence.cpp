@@ -77,8 +77,9 @@ void TrajectoryEvidenceConfig::validate() const {
 }
 
 struct TrajectoryEvidence::BodyIndex {
-  BodyIndex(const Eigen::Vector3d& up_W, double cell) : plane(up_W), cells(cell), point_cells(cell) {}
-  internal::GroundPlane plane;
+  BodyIndex(const Eigen::Vector3d& up_W, double cell)
+      : plane(geometry::planFrame(up_W)), cells(cell), point_cells(cell) {}
+  geometry::PlanFrame plane;
   /// Keyframe ids under the horizontal cell of each of their station bases (cell: the footprint's
   /// circumradius, so a body holding a point has its base in the 3 x 3 cells around it).
   internal::HorizontalGrid<std::uint64_t> cells;

@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "common/plan_frame.h"
 #include "face_projection.h"
 #include "layer_computer.h"
 #include "surface_store.h"
@@ -29,14 +30,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Rotation taking map-frame directions into L, where up_W becomes +z.
 Eigen::Matrix3d levelRotation(const Eigen::Vector3d& up_W) {
-  const Eigen::Vector3d z = up_W.normalized();
-  const Eigen::Vector3d a = std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d x = (a - z * z.dot(a)).normalized();
-  const Eigen::Vector3d y = z.cross(x);
+  const geometry::PlanFrame frame = geometry::planFrame(up_W.normalized());
   Eigen::Matrix3d R;
-  R.row(0) = x.transpose();
-  R.row(1) = y.transpose();
-  R.row(2) = z.transpose();
+  R.row(0) = frame.e1.transpose();
+  R.row(1) = frame.e2.transpose();
+  R.row(2) = frame.up.transpose();
   return R;
 }
 

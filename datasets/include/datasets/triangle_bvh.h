@@ -31,11 +31,6 @@ struct SurfacePoint {
   std::uint32_t face = 0;
 };
 
-/// The point of triangle (a, b, c) nearest to `p`, in double precision (Ericson, Real-Time
-/// Collision Detection, 5.1.5). A degenerate (zero-area) triangle is treated as its three edges.
-Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                       const Eigen::Vector3d& c);
-
 /// Ray casting, visibility and nearest-surface queries on the faces of a triangle mesh, on
 /// Embree 3's bounding-volume hierarchy. All positions are in the frame of the mesh and in its
 /// units; answers are in double precision.

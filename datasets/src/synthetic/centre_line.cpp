@@ -134,12 +134,8 @@ PoseList camerasAlong(const CentreLine& line, double frame_spacing_m,
   return poses;
 }
 
-PlanarPointGrid::PlanarPointGrid(const Eigen::Vector3d& up_W, double cell_m) : cell_m_(cell_m) {
-  const Eigen::Vector3d up = up_W.normalized();
-  const Eigen::Vector3d seed = std::abs(up.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  axis_u_ = (seed - seed.dot(up) * up).normalized();
-  axis_v_ = up.cross(axis_u_);
-}
+PlanarPointGrid::PlanarPointGrid(const Eigen::Vector3d& up_W, double cell_m)
+    : plane_(geometry::planFrame(up_W.normalized())), cell_m_(cell_m) {}
 
 void PlanarPointGrid::insert(const Eigen::Vector3d& point_W, std::size_t id) {
   const Eigen::Vector2d p = planar(point_W);

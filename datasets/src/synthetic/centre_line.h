@@ -8,6 +8,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/grid_key.h"
+#include "common/plan_frame.h"
 #include "datasets/kitti_trajectory.h"
 #include "rng.h"
 
@@ -72,12 +74,10 @@ class PlanarPointGrid {
                      const std::function<void(std::size_t)>& visit) const;
 
  private:
-  Eigen::Vector2d planar(const Eigen::Vector3d& p) const { return {p.dot(axis_u_), p.dot(axis_v_)}; }
-  static std::uint64_t key(std::int64_t i, std::int64_t j) {
-    return (static_cast<std::uint64_t>(i) << 32) ^ (static_cast<std::uint64_t>(j) & 0xffffffffULL);
-  }
+  Eigen::Vector2d planar(const Eigen::Vector3d& p) const { return plane_.project(p); }
+  static std::uint64_t key(std::int64_t i, std::int64_t j) { return geometry::packCell2(i, j); }
 
-  Eigen::Vector3d axis_u_, axis_v_;
+  geometry::PlanFrame plane_;
   double cell_m_;
   std::unordered_map<std::uint64_t, std::vector<std::pair<Eigen::Vector2d, std::size_t>>> cells_;
 };

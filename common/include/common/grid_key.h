@@ -1,0 +1,70 @@
+#pragma once
+
+// Integer cells of square and cubic grids, their keys and hashes: the one home of the grid-index
+// formulas of the hash grids across terramesh.
+#include <Eigen/Core>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace terramesh::geometry {
+
+/// A cell of a square grid of size c: cell (i, j) covers [i c, (i + 1) c) x [j c, (j + 1) c).
+struct CellKey2 {
+  std::int64_t i = 0;
+  std::int64_t j = 0;
+  friend bool operator==(const CellKey2& a, const CellKey2& b) { return a.i == b.i && a.j == b.j; }
+  friend bool operator!=(const CellKey2& a, const CellKey2& b) { return !(a == b); }
+};
+
+/// A cell of a cubic grid of size c: cell (i, j, k) covers [i c, (i + 1) c) along x, and so on.
+struct CellKey3 {
+  std::int64_t i = 0;
+  std::int64_t j = 0;
+  std::int64_t k = 0;
+  friend bool operator==(const CellKey3& a, const CellKey3& b) { return a.i == b.i && a.j == b.j && a.k == b.k; }
+  friend bool operator!=(const CellKey3& a, const CellKey3& b) { return !(a == b); }
+};
+
+/// The cell of p in a grid of squares `cell` wide (same units as p). @pre cell > 0; the
+/// coordinates over cell fit in 64 bits.
+inline CellKey2 cellOf(const Eigen::Vector2d& p, double cell) {
+  return {static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell))};
+}
+
+/// The cell of p in a grid of cubes `cell` wide (same units as p). @pre as for the 2-D cellOf.
+inline CellKey3 cellOf(const Eigen::Vector3d& p, double cell) {
+  return {static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell)),
+          static_cast<std::int64_t>(std::floor(p.z() / cell))};
+}
+
+/// One word for a 2-D cell: the low 32 bits of i (high half) and of j (low half); unique for
+/// cells with i and j in [-2^31, 2^31), so the word itself can key a hash table.
+constexpr std::uint64_t packCell2(std::int64_t i, std::int64_t j) noexcept {
+  return (static_cast<std::uint64_t>(i) << 32) | (static_cast<std::uint64_t>(j) & 0xffffffffull);
+}
+
+/// The spatial hash of Teschner et al. (2003), three large primes XORed, in wrapping unsigned
+/// arithmetic. Callers pass the coordinates as 64-bit words: sign-extended (the cast of a signed
+/// index) or zero-extended from 32 bits (the cast of a std::uint32_t) give different, equally
+/// spread hashes; a table keeps the one it was built with, since its iteration order follows it.
+constexpr std::uint64_t spatialHash3(std::uint64_t i, std::uint64_t j, std::uint64_t k) noexcept {
+  return i * 73856093u ^ j * 19349663u ^ k * 83492791u;
+}
+
+/// Hash of a 2-D cell: i times the 64-bit golden ratio, XOR j (rows may collide where j < 0).
+struct CellKey2Hash {
+  std::size_t operator()(const CellKey2& key) const noexcept {
+    return static_cast<std::size_t>(key.i) * 0x9E3779B97F4A7C15ull ^ static_cast<std::size_t>(key.j);
+  }
+};
+
+/// Hash of a 3-D cell for std::unordered_map: `spatialHash3` of the sign-extended indices.
+struct CellKey3Hash {
+  std::size_t operator()(const CellKey3& key) const noexcept {
+    return static_cast<std::size_t>(spatialHash3(static_cast<std::uint64_t>(key.i), static_cast<std::uint64_t>(key.j),
+                                                 static_cast<std::uint64_t>(key.k)));
+  }
+};
+
+}  // namespace terramesh::geometry
