@@ -11,7 +11,7 @@ scripts/build.sh
 phase "Release build"
 (cd build && ctest --output-on-failure -j "${TERRAMESH_JOBS:-$(nproc)}")
 phase "Release suite"
-# The whole suite again, built with clang under ASan + UBSan (Debug; the soak at 400 keyframes per
+# The whole suite again, built with clang under ASan + UBSan (Debug; the soak at 200 keyframes per
 # mode; docs/reliability.md, "Sanitizers"). Its build also holds the libFuzzer targets, so the
 # bounded fuzzing of every reader (docs/reliability.md, "Fuzzing") reuses it.
 scripts/test_sanitized.sh

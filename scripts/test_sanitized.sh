@@ -6,7 +6,7 @@
 #   --build-only   configure and build, run no tests (scripts/fuzz.sh uses it)
 #   --target T     build only target T (repeatable; default: everything)
 # Environment: TERRAMESH_SANITIZE_DIR (build folder, default build-sanitize), TERRAMESH_JOBS,
-# TERRAMESH_SANITIZE_CXX (default clang++), TERRAMESH_SANITIZE_SOAK_KEYFRAMES (default 400).
+# TERRAMESH_SANITIZE_CXX (default clang++), TERRAMESH_SANITIZE_SOAK_KEYFRAMES (default 200).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir="${TERRAMESH_SANITIZE_DIR:-build-sanitize}"
@@ -60,8 +60,8 @@ export LSAN_OPTIONS="suppressions=$source_dir/cmake/lsan_suppressions.txt:print_
 # bad-input tests. And the baseline modes' runs of the heaviest mesher tests (the same mesher code
 # with other weights: their proposed-mode runs, the soaks and the mode tests keep them sanitized).
 excluded='^(AllModes/(SceneReconstruction|Exactness)\..*/(romanoni15|litvinov13)|install\.|cli_mesh\.(SyntheticStreamTest|EvalTest)$|cli_traverse\.(StreetTest|GarageTest)$|cli_evidence\.|cli_checkpoint\.(StopSignalTest|KillAndResumeTest)$)'
-# Smaller data (docs/reliability.md, "Sanitizers"): the invariant soak with 400 keyframes per mode
+# Smaller data (docs/reliability.md, "Sanitizers"): the invariant soak with 200 keyframes per mode
 # instead of 2,000/1,000; the Release suite runs the full count.
-export TERRAMESH_SOAK_KEYFRAMES="${TERRAMESH_SANITIZE_SOAK_KEYFRAMES:-400}"
+export TERRAMESH_SOAK_KEYFRAMES="${TERRAMESH_SANITIZE_SOAK_KEYFRAMES:-200}"
 cd "$dir"
 ctest --output-on-failure -j "$jobs" -E "$excluded" "${ctest_args[@]}"
