@@ -59,6 +59,13 @@ LayerComputer::SlopeSupport LayerComputer::slopeSupport(const SurfaceStore& stor
   // The plane z = c.z + a x + b y and its direction of ascent.
   const Eigen::Vector2d gradient(-n.x() / n.z(), -n.y() / n.z());
   if (!(gradient.norm() > 0)) return out;  // level: no slope to doubt
+  // A face within a step whose slope stays under the limit even over the shortest baseline
+  // (slopeMayExceed) needs no neighbour: no extent changes its answers (1e-6: the float slope).
+  const double shortest_worst = gradient.norm() + 2.0 * profile_.evidence.point_noise_m / short_side_m_;
+  if (!(f.max_z - f.min_z > profile_.max_step_m) &&
+      shortest_worst < std::tan(profile_.max_slope_deg * M_PI / 180.0) - 1e-6) {
+    return out;
+  }
   const Eigen::Vector2d up_slope = gradient.normalized();
   const Eigen::Vector3d& c = f.centroid_L;
   double lo = 0, hi = 0;
