@@ -47,7 +47,8 @@ void declareOptions(CLI::App& app, EvalOptions& o) {
   app.add_option("--gt-mesh", o.gt_mesh, "ground truth: a surface mesh (e.g. ground_truth.ply of terramesh generate)")
       ->option_text("FILE");
   app.add_option("--views", o.views,
-                 "with --gt-mesh: camera poses to render depth from (KITTI format, e.g. trajectory.txt)")
+                 "with --gt-mesh: camera poses to render depth from (KITTI format; default: trajectory.txt beside "
+                 "the truth, as terramesh generate writes it)")
       ->option_text("FILE");
   app.add_option("--gt-lidar", o.gt_lidar, "ground truth: a KITTI odometry sequence (velodyne/*.bin, calib.txt)")
       ->option_text("DIR");
@@ -153,7 +154,15 @@ int runEval(const std::vector<std::string>& args) {
   if (!parseCommandLine(app, args)) return kExitOk;
   const bool lidar = options.gt_lidar.has_value();
   if (lidar == options.gt_mesh.has_value()) throw UsageError("eval: give exactly one of --gt-mesh and --gt-lidar");
-  if (!lidar && !options.views) throw UsageError("eval: --gt-mesh needs --views FILE");
+  if (!lidar && !options.views) {
+    // terramesh generate writes the poses that observed the truth beside it.
+    const std::filesystem::path beside = std::filesystem::path(*options.gt_mesh).parent_path() / "trajectory.txt";
+    if (!std::filesystem::is_regular_file(beside)) {
+      throw UsageError("eval: --gt-mesh needs --views FILE (no trajectory.txt beside " + *options.gt_mesh + ")");
+    }
+    options.views = beside.string();
+    if (!options.quiet) std::cerr << "eval: views: " << beside.string() << ", beside the truth (--views overrides)\n";
+  }
   if (lidar && !options.poses) throw UsageError("eval: --gt-lidar needs --poses FILE");
   if (!lidar && options.poses) throw UsageError("eval: --poses goes with --gt-lidar (use --views)");
 

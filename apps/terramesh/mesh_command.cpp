@@ -14,6 +14,7 @@
 #include "mesher/mesher.h"
 #include "input_options.h"
 #include "mesh_checkpoint.h"
+#include "mesh_frame_hints.h"
 #include "mesher_options.h"
 #include "progress_bar.h"
 #include "stop_signal.h"
@@ -38,12 +39,34 @@ std::string eventKind(const datasets::StreamEvent& event, std::uint64_t& id) {
   return "remove_points";
 }
 
-void writeMesh(const std::filesystem::path& path, const mesher::TriangleMesh& mesh) {
+void writeMesh(const std::filesystem::path& path, const mesher::TriangleMesh& mesh,
+               const std::vector<std::string>& comments) {
   if (path.extension() == ".obj") {
     mesher::writeObj(path, mesh);
   } else {
-    mesher::writePly(path, mesh);
+    mesher::writePly(path, mesh, comments);
   }
+}
+
+/// What the run knows of the mesh's frame, for its header (mesh_frame_hints.h).
+/// The scale only when known (from the data or --metres-per-unit): an SfM model's unit is not a metre.
+std::vector<std::string> frameComments(const datasets::SlamStream& stream, std::optional<double> metres_per_unit,
+                                       const std::optional<TraversabilitySession>& traversability,
+                                       const TrajectoryEvidenceRun& evidence) {
+  MeshFrameHints hints;
+  hints.metres_per_unit = metres_per_unit;
+  if (traversability) {
+    hints.up_W = traversability->frame().up_W;
+    hints.up_source = traversability->upSource();
+  } else if (const std::optional<StreamUp> up = upFromKeyframes(stream)) {
+    hints.up_W = up->up_W;
+    hints.up_source = up->source;
+  }
+  if (evidence.enabled()) {
+    hints.sensor_height_m = evidence.sensorHeightM();
+    hints.sensor_height_source = evidence.sensorHeightSource();
+  }
+  return meshFrameComments(hints);
 }
 
 std::string describeTopology(const mesher::MeshTopology& t) {
@@ -135,6 +158,9 @@ int runMesh(const std::vector<std::string>& args) {
   if (resumed) evidence.replay(stream, run.next_event);
   if (!quiet && !evidence.summary().empty()) std::cerr << "terramesh: " << evidence.summary() << '\n';
   if (!quiet && evidence.warning()) std::cerr << "terramesh: warning: " << *evidence.warning() << '\n';
+  const bool scale_known = stream.scale_known || mesher_options.metres_per_unit.has_value();
+  const std::vector<std::string> frame_comments = frameComments(
+      stream, scale_known ? std::optional<double>(config.metres_per_unit) : std::nullopt, traversability, evidence);
   std::ostringstream csv;
   csv << (resumed ? run.csv : updateCsvHeader() + "\n");
   mesher::UpdateStats totals = run.totals;
@@ -172,7 +198,7 @@ int runMesh(const std::vector<std::string>& args) {
       if (snapshot_every > 0 && keyframes % static_cast<std::size_t>(snapshot_every) == 0) {
         char name[64];
         std::snprintf(name, sizeof(name), "mesh_%06zu.%s", keyframes, format.c_str());
-        writeMesh(output / "snapshots" / name, mesher.extractMesh());
+        writeMesh(output / "snapshots" / name, mesher.extractMesh(), frame_comments);
       }
     }
     stop_signal = StopSignalScope::requested();
@@ -188,7 +214,7 @@ int runMesh(const std::vector<std::string>& args) {
 
   const mesher::TriangleMesh mesh = mesher.extractMesh();
   const std::filesystem::path mesh_path = output / ("mesh." + format);
-  writeMesh(mesh_path, mesh);
+  writeMesh(mesh_path, mesh, frame_comments);
   writeFileAtomically(output / "keyframes.csv", csv.str());
   writeRunExtras(stream, output);
   const mesher::MeshTopology topology = mesher::analyzeTopology(mesh);
@@ -214,7 +240,7 @@ int runMesh(const std::vector<std::string>& args) {
   if (drop_steiner) {
     const mesher::TriangleMesh open = mesher::dropSteinerFaces(mesh);
     const std::filesystem::path open_path = output / ("mesh_open." + format);
-    writeMesh(open_path, open);
+    writeMesh(open_path, open, frame_comments);
     const mesher::MeshTopology open_topology = mesher::analyzeTopology(open);
     summary << "open surface: " << open_path.string() << " (" << open_topology.vertices
             << " vertices, " << open_topology.faces << " faces, " << open_topology.boundary_edges

@@ -78,6 +78,7 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
       std::abs(stream.sensor_up_S.normalized().z()) > 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
   run.evidence_.emplace(profile, frame.up_W, frame.metres_per_unit, decision.sensor_height_m, forward_S, config);
   run.sensor_height_m_ = decision.sensor_height_m;
+  run.sensor_height_source_ = decision.source;
   run.station_spacing_m_ = config.station_spacing_m;
   std::ostringstream patches;
   patches << "; patches of " << run.evidence_->samplesPerKeyframe() << " driven-ground samples under each keyframe";

@@ -42,6 +42,10 @@ class TrajectoryEvidenceRun {
   void replay(const datasets::SlamStream& stream, std::size_t events);
 
   bool enabled() const { return evidence_.has_value(); }
+  /// The sensor's height above the ground contact plane the samples use, metres (0 when off).
+  double sensorHeightM() const { return sensor_height_m_; }
+  /// Where that height came from: "--sensor-height-m", "the robot profile" or "the data".
+  const std::string& sensorHeightSource() const { return sensor_height_source_; }
   /// What was inferred, one line (empty when off by option or without --robot).
   const std::string& summary() const { return summary_; }
   /// SLAM points dropped so far because the robot drove through them (outliers).
@@ -59,6 +63,7 @@ class TrajectoryEvidenceRun {
  private:
   std::optional<traversability::TrajectoryEvidence> evidence_;
   double sensor_height_m_ = 0;
+  std::string sensor_height_source_;
   double station_spacing_m_ = 0;
   std::string summary_;
   std::optional<std::string> warning_;

@@ -30,6 +30,18 @@ void addTraversabilityExportOptions(CLI::App& app, TraversabilityExportOptions& 
   app.add_flag("--no-geotiff", options.no_geotiff, "do not write the GeoTIFF layers (layers_level_N.tif)");
 }
 
+std::optional<StreamUp> upFromKeyframes(const datasets::SlamStream& stream) {
+  std::vector<Eigen::Matrix3d> rotations;
+  for (const datasets::StreamEvent& event : stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+      rotations.push_back(keyframe->rotation_W_C.toRotationMatrix());
+    }
+  }
+  if (rotations.empty()) return std::nullopt;
+  return StreamUp{traversability::estimateUpFromCameras(rotations, stream.sensor_up_S),
+                  "estimated from " + std::to_string(rotations.size()) + " keyframe rotations"};
+}
+
 traversability::ExportConfig exportConfigFrom(const TraversabilityExportOptions& options) {
   traversability::ExportConfig config;
   config.grid_resolution_m = options.grid_resolution_m;
@@ -90,17 +102,10 @@ std::optional<TraversabilitySession> TraversabilitySession::fromOptions(const Tr
     frame.up_W = -profile.gravity_W->normalized();
     up_source = "the robot profile's gravity";
   } else {
-    std::vector<Eigen::Matrix3d> rotations;
-    for (const datasets::StreamEvent& event : stream.events) {
-      if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
-        rotations.push_back(keyframe->rotation_W_C.toRotationMatrix());
-      }
-    }
-    if (rotations.empty()) throw std::invalid_argument("mesh: --robot: the stream has no keyframes to estimate up from");
-    frame.up_W = traversability::estimateUpFromCameras(rotations, stream.sensor_up_S);
-    std::ostringstream text;
-    text << "estimated from " << rotations.size() << " keyframe rotations";
-    up_source = text.str();
+    std::optional<StreamUp> up = upFromKeyframes(stream);
+    if (!up) throw std::invalid_argument("mesh: --robot: the stream has no keyframes to estimate up from");
+    frame.up_W = up->up_W;
+    up_source = up->source;
   }
   frame.validate();
   return TraversabilitySession(profile, frame, config, std::move(output), export_every, up_source);

@@ -38,6 +38,15 @@ struct TraversabilitySessionOptions {
   TraversabilityExportOptions exports;
   std::size_t export_every = 0;  ///< keyframes between exports (0: only at the end)
 };
+/// Up estimated from a stream's keyframe rotations (traversability::estimateUpFromCameras with the
+/// stream's sensor_up_S), and how ("estimated from N keyframe rotations").
+struct StreamUp {
+  Eigen::Vector3d up_W;
+  std::string source;
+};
+/// nullopt if the stream has no keyframe.
+std::optional<StreamUp> upFromKeyframes(const datasets::SlamStream& stream);
+
 /// Parses "X,Y,Z" (the --up option).
 /// @throw UsageError naming the option.
 Eigen::Vector3d parseUpVector(const std::string& text);

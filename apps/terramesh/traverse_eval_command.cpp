@@ -20,6 +20,7 @@
 #include "evaluation/ground_truth_traversability.h"
 #include "evaluation/mesh_refinement.h"
 #include "evaluation/road_under_path.h"
+#include "mesh_frame_hints.h"
 #include "evaluation/robot_limits.h"
 #include "evaluation/traversability_score.h"
 #include "ground_truth_check.h"
@@ -37,7 +38,7 @@ struct TraverseEvalOptions {
   double max_distance_m = 0.5;
   double gt_max_edge_m = 0.25;
   double sample_edge_m = 0.25;
-  double camera_height_m = 1.65;
+  std::optional<double> camera_height_m;
   double lateral_m = 1.5;
   double height_tolerance_m = 0.5;
   bool quiet = false;
@@ -62,7 +63,9 @@ void declareOptions(CLI::App& app, TraverseEvalOptions& o) {
   app.add_option("--road-under-path", o.road_under_path,
                  "real data: the map's classes on the road under the keyframe centres of STREAM (map units)")
       ->option_text("STREAM");
-  app.add_option("--camera-height-m", o.camera_height_m, "with --road-under-path: the road lies H below the camera")
+  app.add_option("--camera-height-m", o.camera_height_m,
+                 "with --road-under-path: the road lies H below the camera (default: the sensor height MAP_DIR/mesh.ply "
+                 "records, else KITTI's 1.65)")
       ->check(non_negative);
   app.add_option("--lateral-m", o.lateral_m, "with --road-under-path: map surface within L of the path, horizontally")
       ->check(non_negative);
@@ -328,7 +331,17 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
   if (positions.size() < 2) throw InputError(stream_path, "keyframes", "at least 2 keyframes are needed for a path");
   const Eigen::Vector3d up = evaluation::upFromCameraRotations(rotations);
   evaluation::RoadUnderPathConfig config;
-  config.camera_height_m = options.camera_height_m;
+  std::string height_source = "--camera-height-m";
+  if (options.camera_height_m) {
+    config.camera_height_m = *options.camera_height_m;
+  } else if (const MeshFrameHints hints = readMeshFrameHints(std::filesystem::path(options.map_dir) / "mesh.ply");
+             hints.sensor_height_m) {
+    config.camera_height_m = *hints.sensor_height_m;
+    height_source = "the sensor height the run's mesh.ply records (" + hints.sensor_height_source + ")";
+  } else {
+    config.camera_height_m = 1.65;
+    height_source = "assumed: KITTI's camera mounting (the map records no sensor height)";
+  }
   config.lateral_m = options.lateral_m;
   config.height_tolerance_m = options.height_tolerance_m;
   config.sample_edge_m = options.sample_edge_m;
@@ -339,6 +352,7 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
          << "path_up " << fixed(up.x(), 6) << ' ' << fixed(up.y(), 6) << ' ' << fixed(up.z(), 6) << '\n'
          << "metres_per_unit " << fixed(map.metres_per_unit, 6) << '\n'
          << "camera_height_m " << fixed(config.camera_height_m, 3) << '\n'
+         << "camera_height_source " << height_source << '\n'
          << "lateral_m " << fixed(config.lateral_m, 3) << '\n'
          << "height_tolerance_m " << fixed(config.height_tolerance_m, 3) << '\n';
   reportAreas(report, "road", road.areas);

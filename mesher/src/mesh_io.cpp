@@ -183,10 +183,11 @@ TriangleMesh requireFiniteVertices(const std::string& file, TriangleMesh mesh) {
 
 }  // namespace
 
-void writePly(const std::filesystem::path& path, const TriangleMesh& mesh) {
+void writePly(const std::filesystem::path& path, const TriangleMesh& mesh, const std::vector<std::string>& comments) {
   const bool have_flags = mesh.is_steiner.size() == mesh.vertices.size();
   ply::Document document;
   document.comments.push_back("terramesh manifold mesh");
+  document.comments.insert(document.comments.end(), comments.begin(), comments.end());
   ply::Element& vertices = document.addElement("vertex", mesh.vertices.size());
   for (int k = 0; k < 3; ++k) {
     ply::Property& coordinate = vertices.addScalar(std::string(1, "xyz"[k]), ply::Type::kFloat64);

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "mesher/triangle_mesh.h"
 
@@ -8,9 +10,11 @@ namespace terramesh::mesher {
 
 /// Writes a binary little-endian PLY: vertex x y z (float64) and `steiner` (uchar, 1 for Steiner
 /// vertices), then `driven` (uchar, 1 for driven-ground samples) only if some vertex is driven,
-/// and face vertex_indices (uchar count, uint32 indices). Written atomically.
+/// and face vertex_indices (uchar count, uint32 indices), with `comments` in the header after
+/// the first ("terramesh manifold mesh"). Written atomically.
 /// @throw std::runtime_error if the file cannot be written.
-void writePly(const std::filesystem::path& path, const TriangleMesh& mesh);
+void writePly(const std::filesystem::path& path, const TriangleMesh& mesh,
+              const std::vector<std::string>& comments = {});
 
 /// Writes a Wavefront OBJ (v and f records, 1-based). Written atomically.
 /// @throw std::runtime_error if the file cannot be written.

@@ -1,0 +1,148 @@
+"""What the data holds, the commands take without a flag (issue 23, "No flag a user must guess"):
+`terramesh mesh` records the scale, up and sensor height it inferred in mesh.ply's header;
+`traverse` takes scale and up from there, `traverse-eval --road-under-path` the sensor height, and
+`eval --gt-mesh` the views from trajectory.txt beside the truth. Flags override; a malformed record
+exits 2 naming the file and line.
+
+Run by ctest with: python3 -m unittest cli_inference_test (TERRAMESH_BIN and TERRAMESH_SHARED_DIR set).
+"""
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+BIN = os.environ["TERRAMESH_BIN"]
+SOURCE = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
+
+
+def run(*args):
+    return subprocess.run([BIN, *args], capture_output=True, text=True, timeout=900)
+
+
+def ply_comments(path):
+    with open(path, "rb") as f:
+        header = f.read(4096).split(b"end_header", 1)[0].decode("ascii")
+    return dict(line[len("comment "):].split(" ", 1) for line in header.splitlines()
+                if line.startswith("comment frame."))
+
+
+def yaml_vector(path, key):
+    with open(path) as f:
+        for line in f:
+            if line.startswith(key + ":"):
+                return json.loads(line.split(":", 1)[1])
+    raise AssertionError(f"{path}: no {key}")
+
+
+def report_values(path):
+    with open(path) as f:
+        return dict(line.split(" ", 1) for line in f.read().splitlines())
+
+
+class InferredFrameTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="terramesh_inference_")
+        cls.scene = os.path.join(cls.dir, "scene")
+        result = run("generate", "hazards", "-o", cls.scene, "--seed", "3", "--quiet")
+        assert result.returncode == 0, result.stderr
+        cls.stream = os.path.join(cls.scene, "stream.tmstream")
+        cls.map = os.path.join(cls.dir, "map")
+        result = run("mesh", cls.stream, "-o", cls.map, "--robot", ROBOT, "--quiet")
+        assert result.returncode == 0, result.stderr
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def path(self, name):
+        return os.path.join(self.dir, name)
+
+    def test_mesh_records_what_it_inferred(self):
+        comments = ply_comments(os.path.join(self.map, "mesh.ply"))
+        self.assertEqual(float(comments["frame.metres_per_unit"]), 1.0)
+        up = [float(v) for v in comments["frame.up"].split()]
+        self.assertEqual(up, yaml_vector(os.path.join(self.map, "map_frame.yaml"), "up"))
+        self.assertRegex(comments["frame.up_source"], r"estimated from \d+ keyframe rotations")
+        with open(os.path.join(self.map, "summary.txt")) as f:
+            estimated = re.search(r"sensor height estimated from the points beneath the path: ([0-9.]+) m", f.read())
+        self.assertIsNotNone(estimated)
+        self.assertAlmostEqual(float(comments["frame.sensor_height_m"]), float(estimated.group(1)), places=3)
+        self.assertEqual(comments["frame.sensor_height_source"], "the data")
+        # Without --robot there is no sensor height, but the scale and up are still known.
+        plain = self.path("plain")
+        result = run("mesh", self.stream, "-o", plain, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        comments = ply_comments(os.path.join(plain, "mesh.ply"))
+        self.assertIn("frame.up", comments)
+        self.assertNotIn("frame.sensor_height_m", comments)
+
+    def test_traverse_takes_scale_and_up_from_the_mesh(self):
+        out = self.path("traverse")
+        result = run("traverse", os.path.join(self.map, "mesh.ply"), "--robot", ROBOT, "-o", out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("from the mesh's header", result.stderr)
+        self.assertEqual(yaml_vector(os.path.join(out, "map_frame.yaml"), "up"),
+                         yaml_vector(os.path.join(self.map, "map_frame.yaml"), "up"))
+        # --up overrides, silently.
+        out = self.path("traverse_tilted")
+        result = run("traverse", os.path.join(self.map, "mesh.ply"), "--robot", ROBOT, "-o", out, "--up=0,0.6,0.8")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertNotIn("up (", result.stderr)
+        self.assertEqual(yaml_vector(os.path.join(out, "map_frame.yaml"), "up"), [0, 0.6, 0.8])
+
+    def test_a_malformed_record_exits_2_naming_file_and_line(self):
+        with open(os.path.join(self.map, "mesh.ply"), "rb") as f:
+            data = f.read()
+        header, body = data.split(b"end_header\n", 1)
+        lines = header.decode("ascii").split("\n")
+        number = next(i for i, line in enumerate(lines) if line.startswith("comment frame.up "))
+        lines[number] = "comment frame.up 0 0 up"
+        bad = self.path("bad.ply")
+        with open(bad, "wb") as f:
+            f.write("\n".join(lines).encode("ascii") + b"end_header\n" + body)
+        result = run("traverse", bad, "--robot", ROBOT, "-o", self.path("bad_out"), "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("bad.ply", result.stderr)
+        self.assertIn(f"line {number + 1}", result.stderr)
+        self.assertIn("frame.up", result.stderr)
+
+    def test_road_under_path_takes_the_recorded_sensor_height(self):
+        comments = ply_comments(os.path.join(self.map, "mesh.ply"))
+        report = self.path("road.txt")
+        result = run("traverse-eval", self.map, "--road-under-path", self.stream, "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        values = report_values(report)
+        self.assertAlmostEqual(float(values["camera_height_m"]), float(comments["frame.sensor_height_m"]), places=3)
+        self.assertIn("mesh.ply records", values["camera_height_source"])
+        result = run("traverse-eval", self.map, "--road-under-path", self.stream, "--camera-height-m", "1.2",
+                     "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        values = report_values(report)
+        self.assertEqual(values["camera_height_m"], "1.200")
+        self.assertEqual(values["camera_height_source"], "--camera-height-m")
+
+    def test_eval_takes_the_views_beside_the_truth(self):
+        truth = os.path.join(self.scene, "ground_truth.ply")
+        mesh = os.path.join(self.map, "mesh.ply")
+        report = self.path("eval.txt")
+        result = run("eval", mesh, "--gt-mesh", truth, "--samples", "2000", "--view-step", "10", "--report", report)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn(os.path.join(self.scene, "trajectory.txt"), result.stderr)
+        with open(os.path.join(self.scene, "trajectory.txt")) as f:
+            poses = sum(1 for line in f if line.strip())
+        self.assertEqual(int(report_values(report)["truth_views"]), len(range(0, poses, 10)))
+        alone = self.path("alone")
+        os.makedirs(alone)
+        shutil.copy(truth, alone)
+        result = run("eval", mesh, "--gt-mesh", os.path.join(alone, "ground_truth.ply"), "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("no trajectory.txt beside", result.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
