@@ -3,9 +3,12 @@
 #include <hdf5.h>
 
 #include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "common/atomic_file.h"
 #include "export_writers.h"
