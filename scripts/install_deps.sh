@@ -6,8 +6,8 @@ packages=(
   build-essential cmake git python3
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev nlohmann-json3-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libyaml-cpp-dev libgdal-dev gdal-bin libompl-dev ompl-demos liboctomap-dev libpcl-dev
-  libcli11-dev libcpp-httplib-dev libnanoflann-dev libembree-dev robin-map-dev python3-numpy python3-matplotlib python3-yaml ccache
+  libyaml-cpp-dev libgdal-dev gdal-bin libhdf5-dev libompl-dev ompl-demos liboctomap-dev libpcl-dev
+  libcli11-dev libcpp-httplib-dev libnanoflann-dev libembree-dev robin-map-dev python3-numpy python3-matplotlib python3-yaml python3-h5py ccache
   chromium
   clang libclang-rt-dev
 )

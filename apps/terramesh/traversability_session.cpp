@@ -28,6 +28,8 @@ void addTraversabilityExportOptions(CLI::App& app, TraversabilityExportOptions& 
   app.add_option("--grid-resolution-m", options.grid_resolution_m, "cell size of the Nav2 maps and GeoTIFF layers, metres")
       ->check(positiveNumber());
   app.add_flag("--no-geotiff", options.no_geotiff, "do not write the GeoTIFF layers (layers_level_N.tif)");
+  app.add_flag("--no-mesh-map-h5", options.no_mesh_map_h5,
+               "do not write traversability.h5 (the HDF5 mesh map of mesh_navigation)");
 }
 
 std::optional<StreamUp> upFromKeyframes(const datasets::SlamStream& stream) {
@@ -49,6 +51,7 @@ traversability::ExportConfig exportConfigFrom(const TraversabilityExportOptions&
     throw UsageError("--grid-resolution-m must be > 0");
   }
   config.write_geotiff = !options.no_geotiff;
+  config.write_mesh_map_h5 = !options.no_mesh_map_h5;
   config.validate();
   return config;
 }

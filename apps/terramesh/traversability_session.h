@@ -19,13 +19,14 @@
 
 namespace terramesh::cli {
 
-/// Options shared by `mesh` and `traverse`: the robot, the grid and the GeoTIFF switch.
+/// Options shared by `mesh` and `traverse`: the robot, the grid and the GeoTIFF and HDF5 switches.
 struct TraversabilityExportOptions {
   std::optional<std::string> robot;  ///< --robot YAML
   double grid_resolution_m = 0.1;
   bool no_geotiff = false;
+  bool no_mesh_map_h5 = false;
 };
-/// Adds --robot, --grid-resolution-m and --no-geotiff to `app`, filling `options`.
+/// Adds --robot, --grid-resolution-m, --no-geotiff and --no-mesh-map-h5 to `app`, filling `options`.
 void addTraversabilityExportOptions(CLI::App& app, TraversabilityExportOptions& options);
 /// @throw std::invalid_argument for a bad grid resolution.
 traversability::ExportConfig exportConfigFrom(const TraversabilityExportOptions& options);

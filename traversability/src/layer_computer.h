@@ -141,8 +141,6 @@ class LayerComputer {
   bool slopeMayExceed(const StoredFace& face) const;
   /// Sets face_class and cost from the local layers and `lethal_distance_m`.
   void classify(StoredFace& face) const;
-  /// Inflation term in [0, 1] of a geodesic distance to the nearest lethal face (Nav2 decay).
-  double inflationTerm(double distance_m) const;
 
  private:
   /// A face's reference plane z = c.z + ref_a x + ref_b y and its ground window.

@@ -137,12 +137,6 @@ bool LayerComputer::uncertain(const StoredFace& face) const {
          face.clearance_unknown_low;
 }
 
-double LayerComputer::inflationTerm(double distance_m) const {
-  if (!(distance_m <= profile_.inflation_radius_m)) return 0.0;
-  if (distance_m <= profile_.inscribed_radius_m) return 1.0;
-  return std::exp(-profile_.cost_scaling_factor * (distance_m - profile_.inscribed_radius_m));
-}
-
 void LayerComputer::classify(StoredFace& face) const {
   FaceLayers& l = face.layers;
   if (face.steiner || l.rays < static_cast<std::uint32_t>(profile_.min_rays)) {
@@ -156,7 +150,7 @@ void LayerComputer::classify(StoredFace& face) const {
     return;
   }
   const RobotProfile& p = profile_;
-  const double inflation = inflationTerm(l.lethal_distance_m);
+  const double inflation = profile_.inflationTerm(l.lethal_distance_m);
   if (uncertain(face)) {
     l.face_class = FaceClass::kUncertain;
     l.cost = static_cast<float>(std::max(p.evidence.uncertain_cost, inflation));

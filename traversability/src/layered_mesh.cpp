@@ -4,17 +4,23 @@
 
 namespace terramesh::traversability {
 
-std::vector<float> LayeredMesh::vertexCost() const {
-  std::vector<float> cost(mesh.vertices.size(), std::numeric_limits<float>::quiet_NaN());
+std::vector<float> LayeredMesh::vertexWorst(const std::function<float(const FaceLayers&)>& value, Worst worst) const {
+  std::vector<float> result(mesh.vertices.size(), std::numeric_limits<float>::quiet_NaN());
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-    const FaceLayers& face = layers[f];
-    if (face.face_class == FaceClass::kUnknown) continue;
-    const float c = face.face_class == FaceClass::kLethal ? 1.0f : face.cost;
+    const float x = value(layers[f]);
+    if (std::isnan(x)) continue;
     for (std::uint32_t v : mesh.faces[f]) {
-      if (std::isnan(cost[v]) || c > cost[v]) cost[v] = c;
+      if (std::isnan(result[v]) || (worst == Worst::kHighest ? x > result[v] : x < result[v])) result[v] = x;
     }
   }
-  return cost;
+  return result;
+}
+
+std::vector<float> LayeredMesh::vertexCost() const {
+  return vertexWorst([](const FaceLayers& face) {
+    if (face.face_class == FaceClass::kUnknown) return std::numeric_limits<float>::quiet_NaN();
+    return face.face_class == FaceClass::kLethal ? 1.0f : face.cost;
+  });
 }
 
 std::vector<FaceClass> LayeredMesh::vertexClass() const {

@@ -81,6 +81,7 @@ void readMapFrame(const std::filesystem::path& path, LayeredMesh& map) {
 namespace {
 
 constexpr const char* kPlyName = "traversability.ply";
+constexpr const char* kMeshMapName = "traversability.h5";
 constexpr const char* kRobotName = "robot.yaml";
 constexpr const char* kFrameName = "map_frame.yaml";
 constexpr const char* kSummaryName = "traversability_summary.txt";
@@ -125,6 +126,13 @@ ExportReport writeMapDirectory(const std::filesystem::path& dir, const LayeredMe
   ExportReport report;
   internal::writeLayeredPly(dir / kPlyName, map);
   report.files.push_back(kPlyName);
+  if (config.write_mesh_map_h5) {
+    internal::writeMeshMapH5(dir / kMeshMapName, map, profile);
+    report.files.push_back(kMeshMapName);
+  } else {
+    std::error_code ignored;
+    std::filesystem::remove(dir / kMeshMapName, ignored);
+  }
 
   const Levels levels = segmentLevels(map, plane, config.levels);
   std::vector<LevelGrid> grids;

@@ -371,6 +371,12 @@ double RobotProfile::footprintCircumradiusM() const {
   return 0.5 * std::hypot(footprint_length_m, footprint_width_m);
 }
 
+double RobotProfile::inflationTerm(double distance_m) const {
+  if (!(distance_m <= inflation_radius_m)) return 0.0;
+  if (distance_m <= inscribed_radius_m) return 1.0;
+  return std::exp(-cost_scaling_factor * (distance_m - inscribed_radius_m));
+}
+
 std::optional<double> RobotProfile::mountedSensorHeightM() const {
   if (sensor_height_m) return sensor_height_m;
   if (T_B_S) return T_B_S->translation().z();

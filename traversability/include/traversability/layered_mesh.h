@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -74,8 +75,16 @@ struct LayeredMesh {
   /// Metres per map unit.
   double metres_per_unit = 1.0;
 
+  /// Which end of a per-face quantity is worse for the robot.
+  enum class Worst : std::uint8_t { kHighest, kLowest };
+  /// The per-vertex rule of every export: a vertex takes the worst value of its faces (`worst`
+  /// says which end is worse); NaN face values are no data and skipped; NaN where no face of the
+  /// vertex has a value (or the vertex has no face). O(faces).
+  /// @param value the quantity of one face
+  std::vector<float> vertexWorst(const std::function<float(const FaceLayers&)>& value,
+                                 Worst worst = Worst::kHighest) const;
   /// Per-vertex cost: the max over the vertex's known faces (NaN if all are unknown; 1 if any is
-  /// lethal).
+  /// lethal). vertexWorst of the face cost, unknown faces skipped.
   std::vector<float> vertexCost() const;
   /// Per-vertex class: lethal if any face is lethal, else uncertain if any face is uncertain, else
   /// free if any face is free, else unknown.

@@ -16,6 +16,8 @@ struct ExportConfig {
   double grid_resolution_m = 0.1;
   /// Also write the GeoTIFF multi-layer grid(s) (GDAL).
   bool write_geotiff = true;
+  /// Also write `traversability.h5`, the HDF5 mesh map that mesh_navigation's mesh_map reads.
+  bool write_mesh_map_h5 = true;
   /// How faces are split into walkable levels (one 2D map per level).
   LevelConfig levels;
   /// @throw std::invalid_argument listing every out-of-range field.
@@ -40,6 +42,8 @@ struct ExportReport {
 ///   `level_N_cost.png` + `level_N_cost.yaml`: the same in `scale` mode, grey levels = cost,
 ///   alpha 0 = unknown (a PGM has no alpha, and scale mode marks unknown only by alpha);
 /// - `layers_level_N.tif`: GeoTIFF, one float band per layer, NaN for no data (if write_geotiff);
+/// - `traversability.h5`: lvr2's HDF5 MeshIO layout with per-vertex layers under mesh_map's
+///   layer names, for mesh_navigation (if write_mesh_map_h5; docs/mesh_navigation.md);
 /// - `robot.yaml`: the profile the layers were computed for; `map_frame.yaml`: up vector, scale,
 ///   the plan axes (see MapPlane);
 /// - `traversability_summary.txt`: area free / lethal / unknown per level, layer statistics

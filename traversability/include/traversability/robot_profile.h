@@ -111,6 +111,10 @@ struct RobotProfile {
 
   /// Radius of the smallest disc around the footprint's centre that contains it.
   double footprintCircumradiusM() const;
+  /// Inflation term in [0, 1] of a geodesic distance (metres) to the nearest lethal face: 1
+  /// within `inscribed_radius_m`, exp(-cost_scaling_factor * (d - inscribed_radius_m)) up to
+  /// `inflation_radius_m`, 0 beyond (and for NaN).
+  double inflationTerm(double distance_m) const;
 
   /// @throw std::invalid_argument listing every out-of-range field, each as
   ///        "key: value (expected range)".
