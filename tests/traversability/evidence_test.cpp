@@ -420,5 +420,81 @@ TEST(EvidenceTest, AFootprintOverTooMuchUnknownGroundIsUncertain) {
   EXPECT_GT(far, 100u);
 }
 
+TEST(EvidenceTest, AFootprintThatReachesAPossibleStepIsUncertain) {
+  // Dense floor at 0 for x < 0 and at 0.4 m for x > 1.5, joined only by faces nobody observed
+  // that span the 1.5 m between (a 0.4 m step, limit 0.18 m, may stand anywhere on them). A robot
+  // centred up to its radius before the span, on measured floor, may meet that step: uncertain,
+  // although the interpolated heights it samples there rise less than a step. Farther away: free.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 0, -3, 3, 0.1, [](double, double) { return 0.0; });
+  test::appendMesh(mesh, test::heightFieldMesh(1.5, 4.5, -3, 3, 0.1, [](double, double) { return 0.4; }));
+  const std::size_t floor_faces = mesh.faces.size();
+  mesher::TriangleMesh span;
+  for (double y = -3; y < 3 - 1e-9; y += 0.5) {
+    const auto base = static_cast<std::uint32_t>(span.vertices.size());
+    span.vertices.insert(span.vertices.end(), {{0, y, 0}, {1.5, y, 0.4}, {1.5, y + 0.5, 0.4}, {0, y + 0.5, 0}});
+    span.faces.push_back({base, base + 1, base + 2});
+    span.faces.push_back({base, base + 2, base + 3});
+  }
+  test::appendMesh(mesh, span);
+  const auto faces = facesOf(mesh, 4, [&](std::size_t f) { return f >= floor_faces; });
+  const std::vector<FaceLayers> layers = layersOf(faces, profile);
+  std::size_t near = 0, far = 0;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (std::abs(c.y()) > 2 || c.x() > 0) continue;
+    if (c.x() > -r + 0.1) {
+      ++near;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at x " << c.x();
+    } else if (c.x() < -r - 0.1 && c.x() > -2.5) {
+      ++far;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at x " << c.x();
+    }
+  }
+  EXPECT_GT(near, 50u);
+  EXPECT_GT(far, 500u);
+  // The span itself: possible steps, uncertain, with the whole rise as their height bound.
+  for (std::size_t f = floor_faces; f < mesh.faces.size(); ++f) {
+    EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain);
+    EXPECT_GE(layers[f].height_uncertainty_m, 0.4f);
+  }
+}
+
+TEST(EvidenceTest, OnDrivenGroundAWallRisingFromTheStripsEdgeBlocksTheFootprintsThatReachIt) {
+  // A driven strip for |y| <= 1 and, at its edge y = 1, a measured 0.6 m wall whose every face
+  // joins the strip's edge samples to points at its top (a parked car beside the path, the mesh
+  // joining its side to the driven ground). The robot drove with its footprint inside the strip;
+  // centred on a face within its radius of the edge, its footprint reaches past the swept volume
+  // into the wall: lethal. Farther in (past the wall's extension), the strip stays free.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  for (double x = -3; x < 3 - 1e-9; x += 0.25) test::appendMesh(mesh, test::thinWall(x, 1.0, x + 0.25, 1.0, 0.0, 0.6));
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  for (mesher::SurfaceFace& face : faces) {
+    std::uint8_t driven = 0;
+    for (const auto& p : face.positions_W) driven += std::abs(p.y()) <= 1.0 + 1e-9 && std::abs(p.z()) < 1e-9 ? 1 : 0;
+    face.driven_vertices = driven;
+  }
+  const std::vector<FaceLayers> layers = layersOf(faces, profile);
+  std::size_t blocked = 0, free = 0;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (faces[f].driven_vertices != 3 || c.y() < 0 || std::abs(c.x()) > 2.5) continue;
+    EXPECT_EQ(layers[f].evidence, Evidence::kDriven);
+    if (c.y() > 1.0 - r + 0.1) {
+      ++blocked;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kLethal) << "at (" << c.x() << ", " << c.y() << ")";
+    } else if (c.y() < 1.0 - r - 0.55) {  // past the wall's extension
+      ++free;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+    }
+  }
+  EXPECT_GT(blocked, 100u);
+  EXPECT_GT(free, 50u);
+}
+
 }  // namespace
 }  // namespace terramesh::traversability

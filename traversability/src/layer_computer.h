@@ -76,8 +76,12 @@ class LayerComputer {
   double unconfirmedReachM() const { return radius_m_ + profile_.evidence.unconfirmed_point_extension_m; }
 
   /// Sets the evidence and height uncertainty of face `s` (its layers and its sampling geometry)
-  /// from the face alone: its vertices, its horizontal span and whether rays crossed the free
-  /// space in front of it. Returns whether either changed.
+  /// from the face: its vertices, its horizontal span and whether rays crossed the free space in
+  /// front of it; and, for a possible step (a gentle face rising more than max_step_m, with
+  /// nothing supporting its inside), its whole rise: the step may stand anywhere on it, so a
+  /// footprint sampling it may meet the top. That reads its edge neighbours' vertices
+  /// (slopeSupport), so TraversabilityMap sets it again when they change. Returns whether the
+  /// evidence, the bound or the relief changed.
   bool setEvidence(SurfaceStore& store, Slot s) const;
 
   /// The height window a face's ground candidates must reach (computeLocal's filter), from its

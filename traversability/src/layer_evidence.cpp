@@ -36,10 +36,17 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
     const bool observed = f.front_crossings > 0;
     evidence = observed ? Evidence::kMeasured : Evidence::kInterpolated;
     relief = g.span_m * (observed ? m.relief_per_m_observed : m.relief_per_m_unobserved);
+    // A possible step (uncertain): its step may stand anywhere between its vertices.
+    const double rise = f.max_z - f.min_z;
+    if (rise > profile_.max_step_m && f.normal_L.z() >= cos_max_slope_ &&
+        (!observed || !slopeSupport(store, s).rise_confirmed)) {
+      relief = std::max(relief, rise);
+    }
     bound = m.point_noise_m + relief;
   }
   const auto bound_f = static_cast<float>(bound);
-  const bool changed = f.layers.evidence != evidence || f.layers.height_uncertainty_m != bound_f;
+  const bool changed = f.layers.evidence != evidence || f.layers.height_uncertainty_m != bound_f ||
+                       g.relief_m != relief;
   f.layers.evidence = evidence;
   f.layers.height_uncertainty_m = bound_f;
   store.setSampleEvidence(s, evidence == Evidence::kInterpolated, relief);

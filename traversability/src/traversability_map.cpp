@@ -205,7 +205,7 @@ class TraversabilityMap::Impl {
     LayerUpdateStats stats;
     replaceFaces(delta, around, stats);
     std::vector<Eigen::Vector3d>& change_points = change_points_;
-    const std::vector<Change>& changed = changed_;
+    std::vector<Change>& changed = changed_;
     std::vector<Slot>& edge_neighbours = edge_neighbours_;
     const std::vector<Slot>& reobserved = reobserved_;
     const std::vector<Slot>& reevidenced = reevidenced_;
@@ -231,8 +231,17 @@ class TraversabilityMap::Impl {
       store_.neighbours(s, scratch_neighbours_);
       edge_neighbours.insert(edge_neighbours.end(), scratch_neighbours_.begin(), scratch_neighbours_.end());
     }
+    // A possible step's relief reads its edge neighbours' vertices (LayerComputer::setEvidence):
+    // set it again now that every face of the delta is in; an edge neighbour whose relief changed
+    // changes what the footprints sampling it may meet.
+    for (Slot s : added) computer_.setEvidence(store_, s);
     for (Slot s : edge_neighbours) {
-      if (store_.face(s).alive) markDirty(s);
+      if (!store_.face(s).alive) continue;
+      markDirty(s);
+      if (computer_.setEvidence(store_, s)) {
+        changed.push_back({internal::projectionOf(store_.face(s)), store_.bounds(s), store_.geometry(s).sampleable});
+        change_points.push_back(store_.centroid(s));
+      }
     }
     for (const Change& change : changed) {
       const Projection& p = change.projection;
