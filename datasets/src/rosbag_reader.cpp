@@ -34,6 +34,23 @@ void openBag(const std::filesystem::path& path, rosbag::Bag& bag) {
   }
 }
 
+/// The topics of an open bag, by name; a topic's type is that of its first connection.
+std::vector<RosbagTopic> topicsOf(const rosbag::Bag& bag) {
+  std::map<std::string, RosbagTopic> topics;
+  rosbag::View all(bag);
+  for (const rosbag::ConnectionInfo* connection : all.getConnections()) {
+    RosbagTopic& topic = topics[connection->topic];
+    topic.name = connection->topic;
+    if (topic.type.empty()) topic.type = connection->datatype;
+  }
+  std::vector<RosbagTopic> result;
+  for (auto& [name, topic] : topics) {
+    topic.messages = rosbag::View(bag, rosbag::TopicQuery(name)).size();
+    result.push_back(topic);
+  }
+  return result;
+}
+
 /// Calls `use(message, index)` for every message on `topic`, in bag order.
 /// @throw terramesh::InputError naming the message for one of another type or one that does not
 ///        decode.
@@ -441,19 +458,7 @@ std::vector<std::string> RosbagOptions::problems() const {
 std::vector<RosbagTopic> listRosbagTopics(const std::filesystem::path& path) {
   rosbag::Bag bag;
   openBag(path, bag);
-  std::map<std::string, RosbagTopic> topics;
-  rosbag::View all(bag);
-  for (const rosbag::ConnectionInfo* connection : all.getConnections()) {
-    RosbagTopic& topic = topics[connection->topic];
-    topic.name = connection->topic;
-    if (topic.type.empty()) topic.type = connection->datatype;
-  }
-  std::vector<RosbagTopic> result;
-  for (auto& [name, topic] : topics) {
-    topic.messages = rosbag::View(bag, rosbag::TopicQuery(name)).size();
-    result.push_back(topic);
-  }
-  return result;
+  return topicsOf(bag);
 }
 
 SlamStream readRosbag(const std::filesystem::path& path, const RosbagOptions& options) {
@@ -464,9 +469,9 @@ SlamStream readRosbag(const std::filesystem::path& path, const RosbagOptions& op
     throw std::invalid_argument(message);
   }
   const std::string file = path.string();
-  const std::vector<RosbagTopic> topics = listRosbagTopics(path);
   rosbag::Bag bag;
   openBag(path, bag);
+  const std::vector<RosbagTopic> topics = topicsOf(bag);
   SlamStream stream;
   std::string how;
   const RosbagTopic& cloud_topic =
