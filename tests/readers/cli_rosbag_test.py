@@ -358,6 +358,14 @@ class BadBagTest(BagCase):
         self.assertIn("terramesh: input: 3 non-finite points skipped", stderr)
         with open(os.path.join(out, "keyframes.csv")) as f:
             self.assertEqual(len(f.read().splitlines()), 4)
+        # Another name needs --input-format rosbag, and reads the same.
+        renamed = self.path("lidar.recording")
+        shutil.copyfile(self.path("lidar.bag"), renamed)
+        refused = run("mesh", renamed, "-o", self.path("refused"))
+        self.assertEqual(refused.returncode, 2, refused.stderr)
+        self.assertIn("unknown stream format \".recording\"", refused.stderr)
+        named, _ = self.mesh(renamed, "named", "--input-format", "rosbag", "--quiet")
+        self.assertEqual(self.file_bytes(named, "mesh.ply"), self.file_bytes(out, "mesh.ply"))
         # A compressed bag reads the same.
         compressed, _ = self.mesh(self.lidar_bag("bz2.bag", compression="bz2"), "bz2", "--quiet")
         self.assertEqual(self.file_bytes(compressed, "mesh.ply"), self.file_bytes(out, "mesh.ply"))
