@@ -1,5 +1,6 @@
 #include "datasets/rosbag_reader.h"
 
+#include <console_bridge/console.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
@@ -25,6 +26,22 @@ using internal::messageLocation;
 using internal::normalizedFrame;
 using internal::PoseTrack;
 using internal::TimedPose;
+
+/// Silences console_bridge, through which rosbag and cpp_common log what they then throw (libraries
+/// do not print; the exception becomes the InputError), and restores its level on leaving. The
+/// level is process-wide: another console_bridge user's messages are silenced meanwhile too.
+class QuietRosLogging {
+ public:
+  QuietRosLogging() : level_(console_bridge::getLogLevel()) {
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
+  }
+  ~QuietRosLogging() { console_bridge::setLogLevel(level_); }
+  QuietRosLogging(const QuietRosLogging&) = delete;
+  QuietRosLogging& operator=(const QuietRosLogging&) = delete;
+
+ private:
+  console_bridge::LogLevel level_;
+};
 
 void openBag(const std::filesystem::path& path, rosbag::Bag& bag) {
   try {
@@ -456,6 +473,7 @@ std::vector<std::string> RosbagOptions::problems() const {
 }
 
 std::vector<RosbagTopic> listRosbagTopics(const std::filesystem::path& path) {
+  const QuietRosLogging quiet;
   rosbag::Bag bag;
   openBag(path, bag);
   return topicsOf(bag);
@@ -469,6 +487,7 @@ SlamStream readRosbag(const std::filesystem::path& path, const RosbagOptions& op
     throw std::invalid_argument(message);
   }
   const std::string file = path.string();
+  const QuietRosLogging quiet;
   rosbag::Bag bag;
   openBag(path, bag);
   const std::vector<RosbagTopic> topics = topicsOf(bag);

@@ -418,6 +418,17 @@ class BadBagTest(BagCase):
             f.write(b"#ROSBAG V2.0\n" + bytes(range(256)) * 4)
         self.assert_refused(path, "cannot read as a ROS 1 bag")
 
+    def test_a_corrupt_message_header(self):
+        # rosbag logs such errors through console_bridge before it throws: the run still prints one line.
+        with open(self.lidar_bag(), "rb") as f:
+            data = bytearray(f.read())
+        first_message = data.index(b"op=\x02")
+        data[first_message - 8:first_message - 4] = b"\xff\xff\xff\x7f"
+        path = self.path("corrupt.bag")
+        with open(path, "wb") as f:
+            f.write(data)
+        self.assert_refused(path, "topic /odom: message 0: cannot decode nav_msgs/Odometry: Error parsing header")
+
     def test_clouds_without_a_pose_are_dropped_and_counted(self):
         # Poses 1 s apart: a cloud halfway is dropped (default interval 0.2 s) or interpolated.
         messages = [("/odom", odometry(stamp(10.0), "odom", "velodyne", (0, 0, 0), (0, 0, 0, 1)), 10.0),
