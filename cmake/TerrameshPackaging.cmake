@@ -24,9 +24,11 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # The CLI's shared libraries (GMP, MPFR, yaml-cpp, GDAL, OMPL...) as dpkg-shlibdeps finds
 # them, plus what a consumer of the CMake package compiles against: the headers of the public
-# and link dependencies that terrameshConfig.cmake finds.
+# and link dependencies that terrameshConfig.cmake finds, and the libraries the static datasets
+# library links (ROS bags: rosbag_storage, roscpp_serialization, class_loader...).
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS
   "libeigen3-dev (>= 3.3), libcgal-dev, libgmp-dev, libmpfr-dev, nlohmann-json3-dev (>= 3.10), \
-libyaml-cpp-dev, libgdal-dev, libompl-dev, liboctomap-dev, libembree-dev, libnanoflann-dev, robin-map-dev")
+libyaml-cpp-dev, libgdal-dev, libompl-dev, liboctomap-dev, libembree-dev, libnanoflann-dev, robin-map-dev, \
+librosbag-storage-dev, libroscpp-core-dev, libclass-loader-dev")
 include(CPack)

@@ -10,6 +10,10 @@ packages=(
   libcli11-dev libcpp-httplib-dev libnanoflann-dev libembree-dev robin-map-dev python3-numpy python3-matplotlib python3-yaml python3-h5py ccache
   chromium
   clang libclang-rt-dev
+  # ROS 1 bags without ROS (datasets/src/rosbag_reader.cpp), and writing test bags from Python
+  librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libtf2-msgs-dev
+  pluginlib-dev librcpputils-dev libament-index-cpp-dev
+  python3-rosbag python3-sensor-msgs python3-nav-msgs python3-geometry-msgs python3-tf2-msgs
 )
 # Node.js and npm (the viewer bundle, its browser tests), unless a Node.js with its own npm is there.
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)

@@ -57,6 +57,7 @@ int runBench(const std::vector<std::string>& args) {
 
   const std::filesystem::path input = stream_file;
   const datasets::SlamStream stream = datasets::readAnyStream(input, streamReadOptionsFrom(input_options));
+  printReaderNotes(std::cerr, stream);
   std::vector<mesher::MesherConfig> configs;
   for (mesher::MesherMode mode : modes) configs.push_back(mesherConfigFrom(mesher_options, mode, stream));
   const std::filesystem::path output = output_dir;

@@ -1,6 +1,7 @@
 #include "input_options.h"
 
 #include <limits>
+#include <sstream>
 
 namespace terramesh::cli {
 namespace {
@@ -16,7 +17,83 @@ void parseFrames(const std::string& text, datasets::KittiOdometryOptions& kitti)
   if (fields.size() > 2) kitti.frame_step = *fields[2];
 }
 
+/// Every problem as one UsageError, or nothing.
+void throwProblems(const std::string& what, const std::vector<std::string>& problems) {
+  if (problems.empty()) return;
+  std::string message = "invalid " + what + " options:";
+  for (const std::string& problem : problems) message += " " + problem + ";";
+  message.pop_back();
+  throw UsageError(message);
+}
+
+/// " (default V s)" for a help text.
+std::string defaultSeconds(double value) {
+  std::ostringstream text;
+  text << " (default " << value << " s)";
+  return text.str();
+}
+
+void addRosbagOptions(CLI::App& app, InputOptions& options) {
+  const datasets::RosbagOptions defaults;
+  app.add_option("--cloud-topic", options.cloud_topic,
+                 "ROS bag: the sensor_msgs/PointCloud2 topic (default: the bag's only one)")
+      ->option_text("TOPIC");
+  app.add_option("--pose-topic", options.pose_topic,
+                 "ROS bag: the nav_msgs/Odometry or geometry_msgs/PoseStamped topic (default: the bag's only one)")
+      ->option_text("TOPIC");
+  app.add_option("--tf-frames", options.tf_frames, "ROS bag: poses from tf, the transform PARENT -> CHILD")
+      ->expected(2)
+      ->option_text("PARENT CHILD");
+  app.add_option("--tf-topic", options.tf_topic, "ROS bag: the tf2_msgs/TFMessage topic of --tf-frames")
+      ->option_text("TOPIC");
+  app.add_option("--cloud-frame", options.cloud_frame,
+                 "ROS bag: the clouds' points are in the sensor frame or already in the world (auto: from "
+                 "header.frame_id vs the poses' frames)")
+      ->option_text("auto|sensor|world");
+  app.add_option("--max-pose-interval-s", options.max_pose_interval_s,
+                 "ROS bag: interpolate a cloud's pose between two poses at most this far apart" +
+                     defaultSeconds(defaults.max_pose_interval_s))
+      ->option_text("S")
+      ->check(nonNegativeNumber());
+  app.add_option("--pose-time-tolerance-s", options.pose_time_tolerance_s,
+                 "ROS bag: else take the nearest pose within this; clouds with none are dropped" +
+                     defaultSeconds(defaults.pose_time_tolerance_s))
+      ->option_text("S")
+      ->check(nonNegativeNumber());
+  app.add_option("--point-id-field", options.point_id_field,
+                 "ROS bag: the integer PointCloud2 field that holds point ids (without it every return is a new point)")
+      ->option_text("NAME");
+}
+
+datasets::RosbagOptions rosbagOptionsFrom(const InputOptions& values) {
+  datasets::RosbagOptions options;
+  options.cloud_topic = values.cloud_topic;
+  options.pose_topic = values.pose_topic;
+  if (values.tf_frames.size() == 2) {
+    options.tf_parent_frame = values.tf_frames[0];
+    options.tf_child_frame = values.tf_frames[1];
+  }
+  options.tf_topic = values.tf_topic;
+  if (values.cloud_frame == "sensor") {
+    options.cloud_frame = datasets::CloudFrame::kSensor;
+  } else if (values.cloud_frame == "world") {
+    options.cloud_frame = datasets::CloudFrame::kWorld;
+  } else if (values.cloud_frame != "auto") {
+    throw UsageError("--cloud-frame must be auto, sensor or world, got \"" + values.cloud_frame + "\"");
+  }
+  options.max_pose_interval_s = values.max_pose_interval_s;
+  options.pose_time_tolerance_s = values.pose_time_tolerance_s;
+  options.point_id_field = values.point_id_field;
+  throwProblems("ROS bag input", options.problems());
+  return options;
+}
+
 }  // namespace
+
+void printReaderNotes(std::ostream& out, const datasets::SlamStream& stream) {
+  for (const std::string& note : stream.reader_notes) out << "terramesh: input: " << note << '\n';
+  for (const std::string& warning : stream.reader_warnings) out << "terramesh: warning: " << warning << '\n';
+}
 
 void addInputOptions(CLI::App& app, InputOptions& options) {
   app.add_option("--input-format", options.input_format, "how to read the input: " + datasets::streamFormatNames())
@@ -36,6 +113,7 @@ void addInputOptions(CLI::App& app, InputOptions& options) {
       ->check(nonNegativeNumber());
   app.add_option("--max-range-m", options.max_range_m, "KITTI input: drop returns farther than D from the sensor")
       ->option_text("D");
+  addRosbagOptions(app, options);
 }
 
 datasets::StreamReadOptions streamReadOptionsFrom(const InputOptions& values) {
@@ -49,13 +127,8 @@ datasets::StreamReadOptions streamReadOptionsFrom(const InputOptions& values) {
   if (values.frames) parseFrames(*values.frames, kitti);
   kitti.max_returns_per_scan = values.max_returns_per_scan;
   if (values.max_range_m) kitti.max_range_m = *values.max_range_m;
-  const std::vector<std::string> problems = kitti.problems();
-  if (!problems.empty()) {
-    std::string message = "invalid KITTI input options:";
-    for (const std::string& problem : problems) message += " " + problem + ";";
-    message.pop_back();
-    throw UsageError(message);
-  }
+  throwProblems("KITTI input", kitti.problems());
+  options.rosbag = rosbagOptionsFrom(values);
   return options;
 }
 

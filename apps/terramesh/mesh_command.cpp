@@ -97,7 +97,7 @@ int runMesh(const std::vector<std::string>& args) {
   TrajectoryEvidenceOptions evidence_options;
   app.add_option("INPUT", input_path,
                  "SLAM stream: the authors' JSON (.json), terramesh's (.tmstream), OpenMVG sfm_data.json, Bundler "
-                 ".out, or a COLMAP or KITTI directory")
+                 ".out, a ROS 1 bag (.bag), or a COLMAP or KITTI directory")
       ->required();
   app.add_option("-o,--output", output_dir, "output directory (created if missing)")->option_text("DIR");
   app.add_option("--mode", mode_name, "proposed, litvinov13 or romanoni15");
@@ -130,6 +130,7 @@ int runMesh(const std::vector<std::string>& args) {
   // Read and validate everything before creating any output.
   const std::filesystem::path input = input_path;
   const datasets::SlamStream stream = datasets::readAnyStream(input, read_options);
+  if (!quiet) printReaderNotes(std::cerr, stream);
   std::optional<ResumedMeshRun> resumed;
   if (resume_path) resumed = readMeshCheckpoint(*resume_path, stream);
   mesher::MesherConfig config = resumed ? resumed->mesher.config() : mesherConfigFrom(mesher_options, *mode, stream);
@@ -223,6 +224,8 @@ int runMesh(const std::vector<std::string>& args) {
           << "\nmetres_per_unit: " << config.metres_per_unit << "\nkeyframes: " << keyframes
           << "\nevents: " << stream.events.size() << "\nmesh: " << mesh_path.string() << " ("
           << describeTopology(topology) << ")\n";
+  for (const std::string& note : stream.reader_notes) summary << "input: " << note << '\n';
+  for (const std::string& warning : stream.reader_warnings) summary << "warning: " << warning << '\n';
   if (resumed) summary << "resumed: from " << *resume_path << " at event " << first_event << '\n';
   if (stop_signal != 0) {
     summary << "stopped: by signal " << stop_signal << " after event " << end_event - 1 << " (" << keyframes

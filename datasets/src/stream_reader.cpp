@@ -16,7 +16,7 @@
 namespace terramesh::datasets {
 namespace {
 
-constexpr std::array<std::pair<StreamFormat, std::string_view>, 9> kFormatNames = {{
+constexpr std::array<std::pair<StreamFormat, std::string_view>, 10> kFormatNames = {{
     {StreamFormat::kAuto, "auto"},
     {StreamFormat::kSlamJson, "slam-json"},
     {StreamFormat::kTmStream, "tmstream"},
@@ -26,6 +26,7 @@ constexpr std::array<std::pair<StreamFormat, std::string_view>, 9> kFormatNames 
     {StreamFormat::kColmapBinary, "colmap-bin"},
     {StreamFormat::kBundler, "bundler"},
     {StreamFormat::kKittiOdometry, "kitti"},
+    {StreamFormat::kRosbag, "rosbag"},
 }};
 
 /// Which version key comes first in a JSON file, read in chunks so that a large file is not
@@ -95,10 +96,11 @@ StreamFormat detectStreamFormat(const std::filesystem::path& path) {
   if (extension == ".json") return detectJsonFormat(path);
   if (extension == ".tmstream") return StreamFormat::kTmStream;
   if (extension == ".out") return StreamFormat::kBundler;
+  if (extension == ".bag") return StreamFormat::kRosbag;
   throw InputError(path.string(), "",
                    "unknown stream format \"" + extension +
                        "\" (expected .json: the authors' format or OpenMVG; .tmstream; .out: "
-                       "Bundler; or a COLMAP or KITTI directory)");
+                       "Bundler; .bag: a ROS 1 bag; or a COLMAP or KITTI directory)");
 }
 
 SlamStream readAnyStream(const std::filesystem::path& path, const StreamReadOptions& options) {
@@ -125,6 +127,8 @@ SlamStream readAnyStream(const std::filesystem::path& path, const StreamReadOpti
       return readBundler(path, options.bundler_image_list);
     case StreamFormat::kKittiOdometry:
       return readKittiOdometry(path, options.kitti);
+    case StreamFormat::kRosbag:
+      return readRosbag(path, options.rosbag);
     case StreamFormat::kAuto:
       break;
   }

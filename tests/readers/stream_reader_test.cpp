@@ -18,12 +18,14 @@ TEST(StreamReader, FormatNamesRoundTrip) {
   for (StreamFormat format :
        {StreamFormat::kAuto, StreamFormat::kSlamJson, StreamFormat::kTmStream,
         StreamFormat::kOpenMvg, StreamFormat::kColmap, StreamFormat::kColmapText,
-        StreamFormat::kColmapBinary, StreamFormat::kBundler, StreamFormat::kKittiOdometry}) {
+        StreamFormat::kColmapBinary, StreamFormat::kBundler, StreamFormat::kKittiOdometry,
+        StreamFormat::kRosbag}) {
     EXPECT_EQ(datasets::parseStreamFormat(datasets::toString(format)), format);
   }
   EXPECT_FALSE(datasets::parseStreamFormat("ply"));
   EXPECT_EQ(datasets::streamFormatNames(),
-            "auto, slam-json, tmstream, openmvg, colmap, colmap-text, colmap-bin, bundler, kitti");
+            "auto, slam-json, tmstream, openmvg, colmap, colmap-text, colmap-bin, bundler, kitti, "
+            "rosbag");
 }
 
 TEST(StreamReader, DetectsEveryRealInput) {
@@ -68,10 +70,10 @@ TEST(StreamReader, FormatOverrideChoosesTheColmapEncoding) {
   copyFiles(sharedData("colmap_statue_of_liberty/txt_model_40img"), dir.path());
   copyFiles(sharedData("colmap_statue_of_liberty/bin_model_40img"), dir.path());
   EXPECT_EQ(countStream(datasets::readAnyStream(dir.path())).distinct_points, 9066u);
-  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapText, {}, {}}))
+  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapText, {}, {}, {}}))
                 .distinct_points,
             1816u);
-  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapBinary, {}, {}}))
+  EXPECT_EQ(countStream(datasets::readAnyStream(dir.path(), {StreamFormat::kColmapBinary, {}, {}, {}}))
                 .distinct_points,
             9066u);
 }
@@ -110,7 +112,7 @@ TEST(StreamReader, UnknownInputsAreNamed) {
                 "unknown input directory");
   // An explicit format is obeyed even when detection would choose another.
   expectErrorAt(expectInputError([&] {
-                  datasets::readAnyStream(dir / "other.json", {StreamFormat::kOpenMvg, {}, {}});
+                  datasets::readAnyStream(dir / "other.json", {StreamFormat::kOpenMvg, {}, {}, {}});
                 }),
                 dir / "other.json", "sfm_data_version", "missing field");
 }

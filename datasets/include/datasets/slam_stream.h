@@ -50,6 +50,11 @@ struct SlamStream {
   /// The image (or scan) file of each keyframe, when the source names one (COLMAP, OpenMVG,
   /// Bundler's list file, KITTI scans).
   std::map<mesher::KeyframeId, std::string> keyframe_names;
+  /// What the reader inferred from the data (which topics, frames and fields it used) and what
+  /// it dropped, one sentence each, for the application to report (libraries do not print).
+  std::vector<std::string> reader_notes;
+  /// The same for what looks wrong, e.g. a filter that dropped most of the input.
+  std::vector<std::string> reader_warnings;
 
   std::size_t keyframeEventCount() const;
 };

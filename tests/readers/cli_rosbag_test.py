@@ -1,0 +1,473 @@
+"""ROS 1 bags through `terramesh mesh BAG.bag`: test bags written with Debian's python3-rosbag (no ROS
+master), meshed and compared with the same data read by terramesh's other readers.
+
+- SyntheticBagTest: a synthetic camera stream written as registered PointCloud2s (float64 x y z and an
+  `id` field) with an Odometry at each stamp gives a byte-identical mesh.ply to the .tmstream.
+- KittiBagTest: KITTI Velodyne scans in the sensor frame with Odometry from the KITTI poses, against the
+  KITTI reader on the same scans (see the test for why the meshes are close, not identical).
+- BadBagTest: missing topic, wrong type, several candidates, a cloud without z, no pose near a cloud.
+
+Run by ctest with the system Python (python3-rosbag): /usr/bin/python3 -m unittest cli_rosbag_test
+(TERRAMESH_BIN and TERRAMESH_SHARED_DIR set).
+"""
+import os
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+import rosbag
+from genpy import Time
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import PointCloud2, PointField
+from std_msgs.msg import String
+
+BIN = os.environ["TERRAMESH_BIN"]
+SHARED = os.environ["TERRAMESH_SHARED_DIR"]
+LIDAR = os.path.join(SHARED, "data", "kitti00_lidar")
+POSES = os.path.join(SHARED, "data", "kitti_poses", "00.txt")
+
+FLOAT32, FLOAT64, UINT32 = PointField.FLOAT32, PointField.FLOAT64, PointField.UINT32
+NUMPY_TYPES = {FLOAT32: "<f4", FLOAT64: "<f8", UINT32: "<u4"}
+
+
+def run(*args):
+    return subprocess.run([BIN, *args], capture_output=True, text=True, timeout=600)
+
+
+def stamp(seconds):
+    return Time.from_sec(seconds)
+
+
+def cloud_message(columns, time, frame):
+    """A PointCloud2 of one row: columns = [(name, datatype, values)], packed in that order."""
+    dtype = np.dtype([(name, NUMPY_TYPES[kind]) for name, kind, _ in columns])
+    records = np.zeros(len(columns[0][2]), dtype=dtype)
+    for name, _, values in columns:
+        records[name] = values
+    msg = PointCloud2()
+    msg.header.stamp = time
+    msg.header.frame_id = frame
+    msg.height, msg.width = 1, len(records)
+    msg.fields = [PointField(name=name, offset=dtype.fields[name][1], datatype=kind, count=1)
+                  for name, kind, _ in columns]
+    msg.is_bigendian = False
+    msg.point_step = dtype.itemsize
+    msg.row_step = dtype.itemsize * len(records)
+    msg.data = records.tobytes()
+    msg.is_dense = True
+    return msg
+
+
+def odometry(time, frame, child, position, quaternion_xyzw):
+    msg = Odometry()
+    msg.header.stamp = time
+    msg.header.frame_id = frame
+    msg.child_frame_id = child
+    p, q = msg.pose.pose.position, msg.pose.pose.orientation
+    p.x, p.y, p.z = (float(v) for v in position)
+    q.x, q.y, q.z, q.w = (float(v) for v in quaternion_xyzw)
+    return msg
+
+
+def pose_stamped(time, frame, position, quaternion_xyzw):
+    msg = PoseStamped()
+    msg.header.stamp = time
+    msg.header.frame_id = frame
+    p, q = msg.pose.position, msg.pose.orientation
+    p.x, p.y, p.z = (float(v) for v in position)
+    q.x, q.y, q.z, q.w = (float(v) for v in quaternion_xyzw)
+    return msg
+
+
+def read_tmstream_keyframes(path):
+    """[(id, centre, quaternion wxyz, [(point id, x, y, z)])] of a .tmstream holding only keyframes."""
+    keyframes = []
+    with open(path) as f:
+        lines = iter(f.read().splitlines())
+    for line in lines:
+        fields = line.split()
+        if not fields or fields[0] != "keyframe":
+            if fields and fields[0] in ("remove_points", "remove_keyframe"):
+                raise AssertionError("the comparison needs a stream of keyframes only")
+            continue
+        count = int(fields[9])
+        observations = [next(lines).split() for _ in range(count)]
+        keyframes.append((int(fields[1]), [float(v) for v in fields[2:5]], [float(v) for v in fields[5:9]],
+                          [(int(o[0]), float(o[1]), float(o[2]), float(o[3])) for o in observations]))
+    return keyframes
+
+
+def quaternion_xyzw(rotation):
+    """The unit quaternion of a 3x3 rotation matrix (x, y, z, w)."""
+    m = rotation
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    if trace > 0:
+        s = 2.0 * np.sqrt(trace + 1.0)
+        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, 0.25 * s]
+    else:
+        i = int(np.argmax([m[0, 0], m[1, 1], m[2, 2]]))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * np.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
+        q = [0.0, 0.0, 0.0, (m[k, j] - m[j, k]) / s]
+        q[i] = 0.25 * s
+        q[j] = (m[j, i] + m[i, j]) / s
+        q[k] = (m[k, i] + m[i, k]) / s
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+class BagCase(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="terramesh_rosbag_")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def path(self, name):
+        return os.path.join(self.dir, name)
+
+    def mesh(self, source, name, *options):
+        out = self.path(name)
+        result = run("mesh", source, "-o", out, *options)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return out, result.stderr
+
+    def file_bytes(self, *parts):
+        with open(os.path.join(*parts), "rb") as f:
+            return f.read()
+
+
+class SyntheticBagTest(BagCase):
+    """A camera stream with tracked points: ids from the `id` field, clouds already in the world."""
+
+    def setUp(self):
+        super().setUp()
+        generated = run("generate", "street", "-o", self.path("gen"), "--length-m", "40", "--quiet")
+        self.assertEqual(generated.returncode, 0, generated.stderr)
+        self.stream = self.path("gen/stream.tmstream")
+        self.keyframes = read_tmstream_keyframes(self.stream)
+        self.assertGreater(len(self.keyframes), 10)
+        # The bag's keyframe ids are the clouds' indices on the topic.
+        self.assertEqual([k[0] for k in self.keyframes], list(range(len(self.keyframes))))
+
+    def write_bag(self, name, pose_kind="odometry", cloud_frame="map"):
+        path = self.path(name)
+        with rosbag.Bag(path, "w") as bag:
+            bag.write("/rosout_like", String(data="not a cloud"), t=stamp(99.0))
+            for index, (_, centre, q_wxyz, observations) in enumerate(self.keyframes):
+                time = Time(100 + index // 10, (index % 10) * 100_000_000)
+                q_xyzw = q_wxyz[1:] + q_wxyz[:1]
+                if pose_kind == "odometry":
+                    bag.write("/odom", odometry(time, "map", "camera_optical_frame", centre, q_xyzw), t=time)
+                else:
+                    bag.write("/pose", pose_stamped(time, "map", centre, q_xyzw), t=time)
+                columns = [("x", FLOAT64, [o[1] for o in observations]), ("y", FLOAT64, [o[2] for o in observations]),
+                           ("z", FLOAT64, [o[3] for o in observations]), ("id", UINT32, [o[0] for o in observations])]
+                bag.write("/slam/points", cloud_message(columns, time, cloud_frame), t=time)
+        return path
+
+    def test_bag_gives_the_same_mesh_file_as_the_stream(self):
+        bag = self.write_bag("odom.bag")
+        stream_out, _ = self.mesh(self.stream, "from_stream", "--quiet")
+        bag_out, stderr = self.mesh(bag, "from_bag")
+        self.assertEqual(self.file_bytes(bag_out, "mesh.ply"), self.file_bytes(stream_out, "mesh.ply"))
+        # The mesh is not trivial, and the run says what it inferred from the bag.
+        self.assertGreater(len(self.file_bytes(bag_out, "mesh.ply")), 10000)
+        self.assertIn("terramesh: input: clouds from /slam/points (sensor_msgs/PointCloud2, "
+                      f"{len(self.keyframes)} messages), the bag's only PointCloud2 topic", stderr)
+        self.assertIn("poses from /odom (nav_msgs/Odometry), " + str(len(self.keyframes)) +
+                      " poses, the bag's only pose topic", stderr)
+        self.assertIn("clouds in the world frame (points used as they are): its header.frame_id \"map\" is "
+                      "the poses' frame", stderr)
+        self.assertIn("point ids from the field \"id\"", stderr)
+        self.assertIn("sensor up axis -y (sensor frame \"camera_optical_frame\")", stderr)
+        with open(os.path.join(bag_out, "summary.txt")) as f:
+            self.assertIn("input: point ids from the field \"id\"", f.read())
+        # The keyframes (centres, rotations) are the stream's, bit for bit.
+        self.assertEqual(self.file_bytes(bag_out, "trajectory.csv"), self.file_bytes(stream_out, "trajectory.csv"))
+
+    def test_pose_stamped_and_the_frame_override(self):
+        bag = self.write_bag("pose.bag", pose_kind="pose_stamped", cloud_frame="registered")
+        refused = run("mesh", bag, "-o", self.path("refused"))
+        self.assertEqual(refused.returncode, 2, refused.stderr)
+        self.assertIn("topic /slam/points: message 0: PointCloud2 header.frame_id \"registered\" is neither the "
+                      "poses' frame \"map\"", refused.stderr)
+        self.assertFalse(os.path.exists(self.path("refused")))
+        stream_out, _ = self.mesh(self.stream, "from_stream", "--quiet")
+        bag_out, stderr = self.mesh(bag, "from_bag", "--cloud-frame", "world", "--pose-topic", "/pose")
+        self.assertIn("clouds in the world frame (points used as they are): as --cloud-frame says", stderr)
+        self.assertIn("poses from /pose (geometry_msgs/PoseStamped)", stderr)
+        self.assertEqual(self.file_bytes(bag_out, "mesh.ply"), self.file_bytes(stream_out, "mesh.ply"))
+
+
+def read_points_ply(path):
+    """x y z (float32) of the run's points.ply: element vertex with float x y z and uint first_keyframe."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode()
+    count = int(header.split("element vertex ")[1].split()[0])
+    layout = "property float x\nproperty float y\nproperty float z\nproperty uint first_keyframe\n"
+    assert layout in header, header
+    records = np.frombuffer(data, dtype=[("xyz", "<f4", 3), ("first", "<u4")], count=count, offset=end)
+    return records["xyz"].astype(float)
+
+
+def mesh_counts(out):
+    """(vertices, faces, closed 2-manifold) from a run's summary.txt."""
+    with open(os.path.join(out, "summary.txt")) as f:
+        line = next(line for line in f if line.startswith("mesh: "))
+    words = line.replace("(", " ").replace(",", " ").split()
+    return int(words[words.index("vertices") - 1]), int(words[words.index("faces") - 1]), "closed 2-manifold" in line
+
+
+@unittest.skipUnless(os.path.isdir(os.path.join(LIDAR, "velodyne")) and os.path.isfile(POSES),
+                     "the shared KITTI 00 LiDAR data is not there")
+class KittiBagTest(BagCase):
+    """KITTI scans in the sensor frame, posed by Odometry messages, against the KITTI reader.
+
+    Both readers get the same returns: every STEP-th return of frames 1-3, written into the bag and
+    into a KITTI sequence folder in the temporary directory (the KITTI reader's own thinning draws a
+    random subset that a bag cannot repeat). The two streams still differ, for two reasons the test
+    pins down, so the meshes are compared for equivalence, not bytes. (1) Ids: the bag's keyframe
+    ids are the clouds' indices (0, 1, 2), the KITTI reader's the frame numbers (1, 2, 3), and the
+    point ids (keyframe << 32 | index of the return) follow. (2) Rotations: the KITTI reader moves the
+    returns by the 3x4 matrix T_W_cam0 * Tr as read, orthonormal only to the poses' printed digits,
+    while an Odometry message carries a unit quaternion: world positions differ by ~1e-5 m. Asserted:
+    the same keyframes (centres to 1e-9 m, the same rotations), the same returns in the same order
+    within 1e-4 m, the same counts in every update's row of keyframes.csv but the id, and closed
+    2-manifolds whose vertex and face counts agree within 1 %.
+    """
+
+    FRAMES = (1, 2, 3)
+    STEP = 6
+
+    def write_inputs(self):
+        """The bag and the KITTI sequence folder, holding the same thinned scans."""
+        with open(os.path.join(LIDAR, "calib.txt")) as f:
+            tr = next(line for line in f if line.startswith("Tr:")).split()[1:]
+        cam0_from_velodyne = np.vstack([np.array(tr, dtype=float).reshape(3, 4), [0, 0, 0, 1]])
+        with open(POSES) as f:
+            poses = [np.vstack([np.array(line.split(), dtype=float).reshape(3, 4), [0, 0, 0, 1]]) for line in f]
+        with open(os.path.join(LIDAR, "times.txt")) as f:
+            times = [float(line) for line in f]
+        sequence = self.path("sequence")
+        os.makedirs(os.path.join(sequence, "velodyne"))
+        shutil.copyfile(os.path.join(LIDAR, "calib.txt"), os.path.join(sequence, "calib.txt"))
+        bag_path = self.path("kitti.bag")
+        with rosbag.Bag(bag_path, "w") as bag:
+            for frame in self.FRAMES:
+                time = stamp(1000.0 + times[frame])
+                world_from_velodyne = poses[frame] @ cam0_from_velodyne
+                bag.write("/odom", odometry(time, "world", "velodyne", world_from_velodyne[:3, 3],
+                                            quaternion_xyzw(world_from_velodyne[:3, :3])), t=time)
+                scan = np.fromfile(os.path.join(LIDAR, "velodyne", f"{frame:06d}.bin"), dtype="<f4").reshape(-1, 4)
+                scan = scan[::self.STEP]
+                scan.tofile(os.path.join(sequence, "velodyne", f"{frame:06d}.bin"))
+                columns = [(name, FLOAT32, scan[:, k]) for k, name in enumerate(("x", "y", "z", "intensity"))]
+                bag.write("/velodyne_points", cloud_message(columns, time, "velodyne"), t=time)
+        return bag_path, sequence
+
+    def test_sensor_frame_scans_match_the_kitti_reader(self):
+        bag, sequence = self.write_inputs()
+        first, last = self.FRAMES[0], self.FRAMES[-1]
+        kitti_out, _ = self.mesh(sequence, "kitti", "--poses", POSES, "--frames", f"{first}:{last}", "--quiet")
+        bag_out, stderr = self.mesh(bag, "bag")
+        self.assertIn("clouds in the sensor frame (points moved into the world by the pose): its header.frame_id "
+                      "\"velodyne\" is the poses' child frame", stderr)
+        self.assertIn("no field \"id\": every return is its own point (seen once), min_views 1 advised", stderr)
+        self.assertIn("sensor up axis +z (sensor frame \"velodyne\")", stderr)
+
+        def table(out, name):
+            with open(os.path.join(out, name)) as f:
+                lines = f.read().splitlines()
+            return lines[0].split(","), [line.split(",") for line in lines[1:]]
+
+        # The same keyframes: centres to rounding, rotations equal up to sign and rounding.
+        columns, kitti_trajectory = table(kitti_out, "trajectory.csv")
+        _, bag_trajectory = table(bag_out, "trajectory.csv")
+        self.assertEqual([r[1] for r in kitti_trajectory], [str(f) for f in self.FRAMES])
+        self.assertEqual([r[1] for r in bag_trajectory], [str(i) for i in range(len(self.FRAMES))])
+        for kitti_row, bag_row in zip(kitti_trajectory, bag_trajectory):
+            np.testing.assert_allclose(np.array(bag_row[2:5], dtype=float), np.array(kitti_row[2:5], dtype=float),
+                                       rtol=0, atol=1e-9)
+            dot = float(np.array(kitti_row[5:9], dtype=float) @ np.array(bag_row[5:9], dtype=float))
+            self.assertGreater(abs(dot), 1 - 1e-12)
+        # The same returns in the same order (points.ply lists points by id), within 1e-4 m.
+        kitti_points = read_points_ply(os.path.join(kitti_out, "points.ply"))
+        bag_points = read_points_ply(os.path.join(bag_out, "points.ply"))
+        self.assertEqual(kitti_points.shape, bag_points.shape)
+        self.assertGreater(len(kitti_points), 50000)
+        self.assertLess(np.abs(kitti_points - bag_points).max(), 1e-4)
+        # Every update saw and inserted the same numbers of points, rays and cells' worth of input.
+        header, kitti_rows = table(kitti_out, "keyframes.csv")
+        _, bag_rows = table(bag_out, "keyframes.csv")
+        counted = [header.index(name) for name in ("new_points", "observations", "observations_too_far",
+                                                   "points_waiting", "steiner_points")]
+        self.assertEqual([[r[i] for i in counted] for r in bag_rows], [[r[i] for i in counted] for r in kitti_rows])
+        kitti_vertices, kitti_faces, kitti_closed = mesh_counts(kitti_out)
+        bag_vertices, bag_faces, bag_closed = mesh_counts(bag_out)
+        self.assertTrue(kitti_closed and bag_closed)
+        self.assertGreater(kitti_faces, 20000)
+        self.assertLess(abs(bag_vertices - kitti_vertices), 0.01 * kitti_vertices)
+        self.assertLess(abs(bag_faces - kitti_faces), 0.01 * kitti_faces)
+
+
+def small_cloud(time, frame="velodyne", names=("x", "y", "z"), kind=FLOAT32, offset=0.0):
+    """Four points 5 m around the sensor, with the fields `names`."""
+    values = {"x": [5.0 + offset, 0.0, -5.0, 0.0], "y": [0.0, 5.0, 0.0, -5.0], "z": [0.5, 0.5, 0.5, float("nan")]}
+    return cloud_message([(name, kind, values[name]) for name in names], time, frame)
+
+
+class BadBagTest(BagCase):
+    """Each refusal: exit 2, one line naming the bag, the topic and, for a message, its index; no output."""
+
+    def write_bag(self, name, messages, compression="none"):
+        path = self.path(name)
+        with rosbag.Bag(path, "w", compression=compression) as bag:
+            for topic, message, seconds in messages:
+                bag.write(topic, message, t=stamp(seconds))
+        return path
+
+    def lidar_bag(self, name="lidar.bag", clouds=3, extra=(), compression="none"):
+        messages = []
+        for i in range(clouds):
+            t = 10.0 + i
+            messages.append(("/odom", odometry(stamp(t), "odom", "velodyne", (i, 0, 0), (0, 0, 0, 1)), t))
+            messages.append(("/points", small_cloud(stamp(t), offset=i), t))
+        return self.write_bag(name, messages + list(extra), compression)
+
+    def assert_refused(self, bag, *fragments, options=()):
+        out = self.path("out")
+        result = run("mesh", bag, "-o", out, *options)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        lines = result.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, result.stderr)
+        self.assertTrue(lines[0].startswith("terramesh: " + bag + ": "), lines[0])
+        for fragment in fragments:
+            self.assertIn(fragment, lines[0])
+        self.assertFalse(os.path.exists(out), "no output may be written for bad input")
+        return lines[0]
+
+    def test_a_good_small_bag_meshes(self):
+        # The baseline of the refusals below: the same bag without the fault is read.
+        out, stderr = self.mesh(self.lidar_bag(), "out")
+        self.assertIn("terramesh: input: 3 non-finite points skipped", stderr)
+        with open(os.path.join(out, "keyframes.csv")) as f:
+            self.assertEqual(len(f.read().splitlines()), 4)
+        # Another name needs --input-format rosbag, and reads the same.
+        renamed = self.path("lidar.recording")
+        shutil.copyfile(self.path("lidar.bag"), renamed)
+        refused = run("mesh", renamed, "-o", self.path("refused"))
+        self.assertEqual(refused.returncode, 2, refused.stderr)
+        self.assertIn("unknown stream format \".recording\"", refused.stderr)
+        named, _ = self.mesh(renamed, "named", "--input-format", "rosbag", "--quiet")
+        self.assertEqual(self.file_bytes(named, "mesh.ply"), self.file_bytes(out, "mesh.ply"))
+        # A compressed bag reads the same.
+        compressed, _ = self.mesh(self.lidar_bag("bz2.bag", compression="bz2"), "bz2", "--quiet")
+        self.assertEqual(self.file_bytes(compressed, "mesh.ply"), self.file_bytes(out, "mesh.ply"))
+
+    def test_missing_topic(self):
+        bag = self.lidar_bag()
+        self.assert_refused(bag, "topic /velodyne: not in the bag (its topics: /odom (nav_msgs/Odometry, 3 messages), "
+                                 "/points (sensor_msgs/PointCloud2, 3 messages))", options=["--cloud-topic", "/velodyne"])
+        self.assert_refused(bag, "topic /tf: not in the bag", options=["--tf-frames", "odom", "velodyne"])
+
+    def test_wrong_type(self):
+        bag = self.lidar_bag()
+        self.assert_refused(bag, "topic /points: message 0: is sensor_msgs/PointCloud2, expected nav_msgs/Odometry or "
+                                 "geometry_msgs/PoseStamped", options=["--pose-topic", "/points"])
+        self.assert_refused(bag, "topic /odom: message 0: is nav_msgs/Odometry, expected sensor_msgs/PointCloud2",
+                            options=["--cloud-topic", "/odom"])
+
+    def test_several_candidates_and_no_flag(self):
+        two_clouds = self.lidar_bag("clouds.bag", extra=[("/points_raw", small_cloud(stamp(10.0)), 10.0)])
+        self.assert_refused(two_clouds, "2 PointCloud2 topics: /points (sensor_msgs/PointCloud2, 3 messages), "
+                                        "/points_raw (sensor_msgs/PointCloud2, 1 messages); choose one with --cloud-topic")
+        out, stderr = self.mesh(two_clouds, "chosen", "--cloud-topic", "/points")
+        self.assertIn("clouds from /points (sensor_msgs/PointCloud2, 3 messages), as --cloud-topic says", stderr)
+        two_poses = self.lidar_bag("poses.bag", extra=[("/pose", pose_stamped(stamp(10.0), "odom", (0, 0, 0),
+                                                                              (0, 0, 0, 1)), 10.0)])
+        self.assert_refused(two_poses, "2 pose topics: /odom (nav_msgs/Odometry, 3 messages), /pose "
+                                       "(geometry_msgs/PoseStamped, 1 messages); choose one with --pose-topic")
+
+    def test_a_cloud_without_z(self):
+        bag = self.lidar_bag(extra=[("/odom", odometry(stamp(13.0), "odom", "velodyne", (3, 0, 0), (0, 0, 0, 1)), 13.0),
+                                    ("/points", small_cloud(stamp(13.0), names=("x", "y")), 13.0)])
+        self.assert_refused(bag, "topic /points: message 3: PointCloud2 has no field \"z\"")
+
+    def test_bad_fields_and_frames(self):
+        integer_x = self.lidar_bag(extra=[("/points", cloud_message([("x", UINT32, [1]), ("y", FLOAT32, [0]),
+                                                                     ("z", FLOAT32, [0])], stamp(13.0), "velodyne"), 13.0)])
+        self.assert_refused(integer_x, "topic /points: message 3: PointCloud2 field \"x\" is uint32, expected float32 "
+                                       "or float64")
+        float_id = self.lidar_bag("id.bag", extra=[("/points", small_cloud(stamp(13.0), names=("x", "y", "z")), 13.0)])
+        self.assert_refused(float_id, "topic /points: message 0: PointCloud2 field \"z\" is float32, expected one "
+                                      "integer (the point id)", options=["--point-id-field", "z"])
+        other_frame = self.lidar_bag("frame.bag", extra=[("/points", small_cloud(stamp(13.0), frame="base_link"), 13.0)])
+        self.assert_refused(other_frame, "topic /points: message 3: PointCloud2 header.frame_id \"base_link\" differs "
+                                         "from the first cloud's \"velodyne\"")
+        self.mesh(other_frame, "forced", "--cloud-frame", "sensor")
+
+    def test_not_a_bag(self):
+        path = self.path("garbage.bag")
+        with open(path, "wb") as f:
+            f.write(b"#ROSBAG V2.0\n" + bytes(range(256)) * 4)
+        self.assert_refused(path, "cannot read as a ROS 1 bag")
+
+    def test_a_corrupt_message_header(self):
+        # rosbag logs such errors through console_bridge before it throws: the run still prints one line.
+        with open(self.lidar_bag(), "rb") as f:
+            data = bytearray(f.read())
+        first_message = data.index(b"op=\x02")
+        data[first_message - 8:first_message - 4] = b"\xff\xff\xff\x7f"
+        path = self.path("corrupt.bag")
+        with open(path, "wb") as f:
+            f.write(data)
+        self.assert_refused(path, "topic /odom: message 0: cannot decode nav_msgs/Odometry: Error parsing header")
+
+    def test_clouds_without_a_pose_are_dropped_and_counted(self):
+        # Poses 1 s apart: a cloud halfway is dropped (default interval 0.2 s) or interpolated.
+        messages = [("/odom", odometry(stamp(10.0), "odom", "velodyne", (0, 0, 0), (0, 0, 0, 1)), 10.0),
+                    ("/odom", odometry(stamp(11.0), "odom", "velodyne", (2, 0, 0), (0, 0, 0, 1)), 11.0),
+                    ("/points", small_cloud(stamp(10.0)), 10.0),
+                    ("/points", small_cloud(stamp(10.5)), 10.5),
+                    ("/points", small_cloud(stamp(10.75)), 10.75)]
+        bag = self.write_bag("gap.bag", messages)
+        out, stderr = self.mesh(bag, "dropped")
+        self.assertIn("terramesh: input: 2 of 3 clouds dropped: no pose at the stamp", stderr)
+        self.assertIn("terramesh: warning: most clouds were dropped (2 of 3)", stderr)
+        out, stderr = self.mesh(bag, "interpolated", "--max-pose-interval-s", "2")
+        self.assertNotIn("clouds dropped", stderr)
+        with open(os.path.join(out, "trajectory.csv")) as f:
+            rows = [line.split(",") for line in f.read().splitlines()[1:]]
+        self.assertEqual([float(r[2]) for r in rows], [0.0, 1.0, 1.5])
+        self.assert_refused(self.write_bag("none.bag", messages[:1] + messages[3:]),
+                            "topic /points: all 2 clouds dropped: no pose at the stamp, none between two poses at most 0.2 s apart, "
+                            "none within 0.01 s (the poses /odom (nav_msgs/Odometry) span 10 to 10 s)")
+
+    def test_tf_poses(self):
+        from tf2_msgs.msg import TFMessage
+        from geometry_msgs.msg import TransformStamped
+        messages = []
+        for i in range(3):
+            t = 10.0 + i
+            transform = TransformStamped()
+            transform.header.stamp, transform.header.frame_id, transform.child_frame_id = stamp(t), "/odom", "velodyne"
+            transform.transform.translation.x = float(i)
+            transform.transform.rotation.w = 1.0
+            other = TransformStamped()
+            other.header.stamp, other.header.frame_id, other.child_frame_id = stamp(t), "odom", "base_link"
+            other.transform.rotation.w = 1.0
+            messages += [("/tf", TFMessage(transforms=[other, transform]), t), ("/points", small_cloud(stamp(t)), t)]
+        bag = self.write_bag("tf.bag", messages)
+        out, stderr = self.mesh(bag, "tf", "--tf-frames", "odom", "velodyne")
+        self.assertIn("poses from /tf (tf2_msgs/TFMessage, odom -> velodyne), 3 poses, as --tf-frames says", stderr)
+        with open(os.path.join(out, "trajectory.csv")) as f:
+            self.assertEqual([float(line.split(",")[2]) for line in f.read().splitlines()[1:]], [0.0, 1.0, 2.0])
+        self.assert_refused(bag, "topic /tf: no transform odom -> lidar (the topic has: odom -> base_link, "
+                                 "odom -> velodyne)", options=["--tf-frames", "odom", "lidar"])
+        self.assert_refused(bag, "no pose topic (nav_msgs/Odometry or geometry_msgs/PoseStamped) in the bag")
