@@ -461,40 +461,5 @@ TEST(EvidenceTest, AFootprintThatReachesAPossibleStepIsUncertain) {
   }
 }
 
-TEST(EvidenceTest, OnDrivenGroundAWallRisingFromTheStripsEdgeBlocksTheFootprintsThatReachIt) {
-  // A driven strip for |y| <= 1 and, at its edge y = 1, a measured 0.6 m wall whose every face
-  // joins the strip's edge samples to points at its top (a parked car beside the path, the mesh
-  // joining its side to the driven ground). The robot drove with its footprint inside the strip;
-  // centred on a face within its radius of the edge, its footprint reaches past the swept volume
-  // into the wall: lethal. Farther in (past the wall's extension), the strip stays free.
-  const RobotProfile profile = smallWheeled();
-  const double r = profile.footprintCircumradiusM();
-  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
-  const std::size_t floor_faces = mesh.faces.size();
-  for (double x = -3; x < 3 - 1e-9; x += 0.25) test::appendMesh(mesh, test::thinWall(x, 1.0, x + 0.25, 1.0, 0.0, 0.6));
-  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
-  for (mesher::SurfaceFace& face : faces) {
-    std::uint8_t driven = 0;
-    for (const auto& p : face.positions_W) driven += std::abs(p.y()) <= 1.0 + 1e-9 && std::abs(p.z()) < 1e-9 ? 1 : 0;
-    face.driven_vertices = driven;
-  }
-  const std::vector<FaceLayers> layers = layersOf(faces, profile);
-  std::size_t blocked = 0, free = 0;
-  for (std::size_t f = 0; f < floor_faces; ++f) {
-    const Eigen::Vector3d c = centroid(mesh, f);
-    if (faces[f].driven_vertices != 3 || c.y() < 0 || std::abs(c.x()) > 2.5) continue;
-    EXPECT_EQ(layers[f].evidence, Evidence::kDriven);
-    if (c.y() > 1.0 - r + 0.1) {
-      ++blocked;
-      EXPECT_EQ(layers[f].face_class, FaceClass::kLethal) << "at (" << c.x() << ", " << c.y() << ")";
-    } else if (c.y() < 1.0 - r - 0.55) {  // past the wall's extension
-      ++free;
-      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
-    }
-  }
-  EXPECT_GT(blocked, 100u);
-  EXPECT_GT(free, 50u);
-}
-
 }  // namespace
 }  // namespace terramesh::traversability

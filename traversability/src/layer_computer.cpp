@@ -393,17 +393,13 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
     if (t != s && mayObstruct(g)) {
       Obstacle o;
       const SampleGeometry& tg = store.geometry(t);
-      // Under driven ground the robot's body swept the volume above: a non-ground face slanted
-      // through that volume (a bridge the mesh drew from the road to something higher), or an
-      // unmeasured one anchored on driven ground, is contradicted by the drive. Near-vertical
-      // measured faces still count there, anchored on the drive or not, where their points
-      // support them (collectSupportedParts): an obstacle placed later (a parked car) stands on
-      // the road with vertical sides, and one beside the path rises from the edge of the driven
-      // ground, where this face's footprint reaches beyond the volume the body swept. Elsewhere a
-      // face anchored on driven ground is only a possible obstacle.
-      const bool anchored_wall = tg.touches_driven && !tg.interpolated && !(tg.normal_z > kMaxBridgeNormalZ);
-      const bool drive_contradicts =
-          driven && !anchored_wall && (tg.touches_driven || tg.normal_z > kMaxBridgeNormalZ);
+      // Under driven ground the robot's body swept the volume above: a non-ground face anchored
+      // on driven ground, or slanted through that volume (a bridge the mesh drew from the road to
+      // something higher), is contradicted by the drive. Near-vertical faces still count there: an
+      // obstacle placed later (a parked car) stands on the road with vertical sides, where its
+      // points support them (collectSupportedParts). Elsewhere a face anchored on driven ground is
+      // only a possible obstacle.
+      const bool drive_contradicts = driven && (tg.touches_driven || tg.normal_z > kMaxBridgeNormalZ);
       if (driven && !drive_contradicts && !tg.interpolated) {
         collectSupportedParts(tg, c, ref_a, ref_b);
       } else if (!drive_contradicts && clipToBody(tg, c, ref_a, ref_b, o)) {
