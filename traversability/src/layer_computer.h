@@ -83,6 +83,12 @@ class LayerComputer {
   /// (slopeSupport), so TraversabilityMap sets it again when they change. Returns whether the
   /// evidence, the bound or the relief changed.
   bool setEvidence(SurfaceStore& store, Slot s) const;
+  /// Whether setEvidence reads the face's edge neighbours: a measured, not driven, gentle face
+  /// rising more than max_step_m (whose rise they may confirm).
+  bool evidenceReadsNeighbours(const StoredFace& f) const {
+    return !f.steiner && f.driven_vertices != 3 && f.front_crossings > 0 && f.max_z - f.min_z > profile_.max_step_m &&
+           f.normal_L.z() >= cos_max_slope_;
+  }
 
   /// The height window a face's ground candidates must reach (computeLocal's filter), from its
   /// centroid and normal only.

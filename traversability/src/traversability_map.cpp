@@ -234,11 +234,13 @@ class TraversabilityMap::Impl {
     // A possible step's relief reads its edge neighbours' vertices (LayerComputer::setEvidence):
     // set it again now that every face of the delta is in; an edge neighbour whose relief changed
     // changes what the footprints sampling it may meet.
-    for (Slot s : added) computer_.setEvidence(store_, s);
+    for (Slot s : added) {
+      if (computer_.evidenceReadsNeighbours(store_.face(s))) computer_.setEvidence(store_, s);
+    }
     for (Slot s : edge_neighbours) {
       if (!store_.face(s).alive) continue;
       markDirty(s);
-      if (computer_.setEvidence(store_, s)) {
+      if (computer_.evidenceReadsNeighbours(store_.face(s)) && computer_.setEvidence(store_, s)) {
         changed.push_back({internal::projectionOf(store_.face(s)), store_.bounds(s), store_.geometry(s).sampleable});
         change_points.push_back(store_.centroid(s));
       }
