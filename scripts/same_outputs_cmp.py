@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""Compares two output trees of scripts/same_outputs.sh, file by file.
+
+Usage: same_outputs_cmp.py BASE_DIR HEAD_DIR
+
+Every file must exist in both trees and be identical byte for byte, except what no two runs share:
+  - CSV files lose the columns that hold times or memory (names ending in _s or _ms, or naming
+    time, rss or memory) before they are compared;
+  - text files (.txt, .md, .log) lose the numbers on lines that state times or memory (seconds,
+    ms, MiB, "time"), and the paths of the two trees are made the same;
+  - a few files only the compare command's measurements fill (its figures, OMPL's log) are listed
+    as not compared.
+Prints one line per differing or missing file and a summary; exit 0 when everything is the same.
+"""
+import csv
+import io
+import re
+import sys
+from pathlib import Path
+
+TIMING_COLUMN = re.compile(r"(_s|_ms|_us)$|time|rss|memory|mib|_per_s$", re.IGNORECASE)
+TIMING_LINE = re.compile(r"time|\bms\b|\d\s*s\b|seconds|MiB|GiB|memory|rss|per second|/s\b", re.IGNORECASE)
+NUMBER = re.compile(r"[-+]?\d+(\.\d*)?([eE][-+]?\d+)?")
+NOT_COMPARED = {"benchmark.log"}
+NOT_COMPARED_SUFFIXES = {".png"}
+NOT_COMPARED_DIRS = {"compare"}
+
+
+def csv_without_timings(text):
+    rows = list(csv.reader(io.StringIO(text)))
+    if not rows:
+        return rows
+    keep = [i for i, name in enumerate(rows[0]) if not TIMING_COLUMN.search(name)]
+    return [[row[i] for i in keep if i < len(row)] for row in rows]
+
+
+def text_without_timings(text, root):
+    lines = []
+    for line in text.replace(str(root), "ROOT").splitlines():
+        lines.append(NUMBER.sub("N", line) if TIMING_LINE.search(line) else line)
+    return lines
+
+
+def same(base_file, head_file, base_root, head_root):
+    a, b = base_file.read_bytes(), head_file.read_bytes()
+    if a == b:
+        return True
+    suffix = base_file.suffix
+    try:
+        ta, tb = a.decode(), b.decode()
+    except UnicodeDecodeError:
+        return False
+    if suffix == ".csv":
+        return csv_without_timings(ta) == csv_without_timings(tb)
+    if suffix in {".txt", ".md", ".log"}:
+        return text_without_timings(ta, base_root) == text_without_timings(tb, head_root)
+    return False
+
+
+def measured_only(relative):
+    """Files only measurements fill: OMPL's log, the compare command's figures of its timings."""
+    return relative.name in NOT_COMPARED or (relative.parts[0] in NOT_COMPARED_DIRS and relative.suffix in NOT_COMPARED_SUFFIXES)
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    base, head = Path(sys.argv[1]).resolve(), Path(sys.argv[2]).resolve()
+    files = sorted({p.relative_to(base) for p in base.rglob("*") if p.is_file()} |
+                   {p.relative_to(head) for p in head.rglob("*") if p.is_file()})
+    differ, skipped, compared = [], [], 0
+    for relative in files:
+        a, b = base / relative, head / relative
+        if not a.exists() or not b.exists():
+            differ.append(f"{relative}: only in {'head' if b.exists() else 'base'}")
+            continue
+        if measured_only(relative):
+            skipped.append(str(relative))
+            continue
+        compared += 1
+        if not same(a, b, base, head):
+            differ.append(f"{relative}: differs")
+    for line in differ:
+        print(line)
+    print(f"{compared} files compared, {len(differ)} differ or are missing; not compared (measurements): "
+          f"{', '.join(skipped) if skipped else 'none'}")
+    return 1 if differ else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
