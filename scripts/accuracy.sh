@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reproduces every number of docs/accuracy.md: meshes the real KITTI 00 ORB-SLAM export and three
+# Reproduces every number of docs/results/accuracy.md: meshes the real KITTI 00 ORB-SLAM export and three
 # synthetic scenes in the three modes, evaluates them (and the authors' reference meshes) against
 # ground truth with `terramesh eval`, and prints the markdown tables. Expects a Release build in
 # build/ (scripts/build.sh) and ../shared/ beside the repository. Writes under out/accuracy/.
@@ -86,10 +86,11 @@ for disable in "" edge-pass incremental-steiner-grid local-enclosing-set increme
   mesh_scene_row street "street_without_$name" "proposed, switched off: $name" ${disable:+--disable "$disable"}
 done
 
-# Issue 14: how much the result depends on where the Steiner lattice lies. The street again, the
+# How much the result depends on where the Steiner lattice lies. The street again, the
 # lattice shifted by a few offsets (--steiner-origin-offset-m, an experiment option), with
 # every lattice node kept (--steiner-clearance-steps 0, the default) and with the nodes within 0.3
-# steps of a point left out (tried in issue 14; docs/accuracy.md).
+# steps of a point left out (docs/results/accuracy.md, "The accuracy gap is the Steiner lattice's
+# placement").
 # TERRAMESH_ACCURACY_SKIP_ORIGIN_STUDY=1 skips it (it meshes the street eight more times).
 if [[ -z ${TERRAMESH_ACCURACY_SKIP_ORIGIN_STUDY:-} ]]; then
   echo

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """How low the camera rays of a stream pass over a map's free ground: the evidence free space gives
-against a low obstacle between sparse points (docs/traversability.md, hazards seed 2's rock).
+against a low obstacle between sparse points (docs/results/traversability.md, hazards seed 2's rock).
 
   scripts/ray_floor.py STREAM MAP_DIR [--point X Y R] [--faces N] [--lateral-m W] [--seed S]
 

@@ -99,8 +99,8 @@ TEST_P(BallPass, ConvergedGrowingLeavesNoAcceptableBallAndAManifold) {
   EXPECT_TRUE(surfaceIsManifold(state_.tri));
   // With the pass on, this is its fixed point. (On these random scenes the edge and per-vertex
   // passes already leave none, seeds 1-3 and 30-70% heavy cells tried: the balls that only this
-  // pass carves come from the street's geometry, docs/accuracy.md; here it must not break the
-  // manifold nor change what the other passes reach.)
+  // pass carves come from the street's geometry, docs/results/accuracy.md; here it must not break
+  // the manifold nor change what the other passes reach.)
   EXPECT_EQ(acceptableBalls(), 0u);
 }
 
