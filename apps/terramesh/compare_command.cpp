@@ -28,6 +28,7 @@
 #include "evaluation/robot_limits.h"
 #include "mesher_options.h"
 #include "traversability/robot_profile.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::cli {
