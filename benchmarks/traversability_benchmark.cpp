@@ -23,6 +23,7 @@
 #include "datasets/synthetic_scene.h"
 #include "datasets/triangle_bvh.h"
 #include "mesher/mesher.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::traversability {

@@ -26,8 +26,10 @@
 #include "datasets/triangle_bvh.h"
 #include "evaluation/ground_truth_traversability.h"
 #include "evaluation/robot_limits.h"
+#include "installed_files.h"
 #include "mesher_options.h"
 #include "traversability/robot_profile.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::cli {
@@ -172,12 +174,10 @@ std::string commandLine(const std::vector<std::string>& args) {
   return text;
 }
 
+/// The figure script shipped beside the executable (installed or in the build tree), else empty.
 std::filesystem::path defaultFiguresScript() {
-#ifdef TERRAMESH_FIGURES_DIR
-  return std::filesystem::path(TERRAMESH_FIGURES_DIR) / "compare_figures.py";
-#else
-  return {};
-#endif
+  const std::filesystem::path folder = shippedFolder("share/terramesh/figures", "compare_figures.py");
+  return folder.empty() ? folder : folder / "compare_figures.py";
 }
 
 }  // namespace
@@ -362,9 +362,9 @@ int runCompare(const std::vector<std::string>& args) {
   if (!o.no_figures) {
     const std::filesystem::path script = o.figures_script ? std::filesystem::path(*o.figures_script) : defaultFiguresScript();
     if (!script.empty() && std::filesystem::is_regular_file(script)) {
-      const std::string call = "/usr/bin/python3 '" + script.string() + "' '" + out.string() + "'" + (o.quiet ? " > /dev/null" : "");
-      figures = std::system(call.c_str()) == 0;
-      if (!figures) say("the figure script failed: " + call);
+      const std::vector<std::string> call = {"/usr/bin/python3", script.string(), out.string()};
+      figures = runProgram(call, o.quiet) == 0;
+      if (!figures) say("the figure script failed: /usr/bin/python3 " + script.string() + " " + out.string());
     } else {
       say("no figure script at " + script.string() + " (give --figures-script)");
     }

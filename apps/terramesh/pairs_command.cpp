@@ -25,6 +25,7 @@
 #include "evaluation/truth_reachability.h"
 #include "ground_truth_check.h"
 #include "traversability/robot_profile.h"
+#include "traversability/robot_profile_yaml.h"
 
 namespace terramesh::cli {
 namespace {

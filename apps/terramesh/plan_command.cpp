@@ -15,6 +15,7 @@
 #include "planning/ompl_benchmark_log.h"
 #include "planning/surface_planner.h"
 #include "traversability/map_directory.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::cli {

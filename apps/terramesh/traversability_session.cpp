@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "common/atomic_file.h"
+#include "traversability/robot_profile_yaml.h"
 
 namespace terramesh::cli {
 namespace {

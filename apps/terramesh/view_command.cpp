@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "common/input_error.h"
 #include "datasets/stream_reader.h"
+#include "installed_files.h"
 #include "run_extras.h"
 #include "view_server.h"
 
@@ -131,8 +132,7 @@ int runView(const std::vector<std::string>& args) {
     std::cout << "terramesh view: serving " << config.run_dir.string() << " at " << url << "  (Ctrl-C to stop)"
               << std::endl;
     if (open) {
-      const std::string command = "xdg-open " + url + " >/dev/null 2>&1 &";
-      if (std::system(command.c_str()) != 0) std::cerr << "terramesh view: xdg-open failed; open " << url << '\n';
+      if (!startProgram({"xdg-open", url})) std::cerr << "terramesh view: xdg-open failed; open " << url << '\n';
     }
   });
   return kExitOk;

@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "traversability/robot_profile.h"
+#include "traversability/robot_profile_yaml.h"
 #include "fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

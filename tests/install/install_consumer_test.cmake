@@ -44,4 +44,11 @@ if(NOT step_output MATCHES "consumer: [0-9]+ vertices, [1-9][0-9]* faces")
   file(REMOVE_RECURSE "${work}")
   message(FATAL_ERROR "install_consumer_test: unexpected consumer output: ${step_output}")
 endif()
+# Computing layers alone: a consumer without GDAL and yaml-cpp still configures, links and runs.
+run_step("configure the layers-only consumer" "${CMAKE_COMMAND}" -S "${CONSUMER_DIR}" -B "${work}/build_layers"
+         -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
+         "-DCMAKE_PREFIX_PATH=${work}/prefix" -DLAYERS_ONLY=ON -DCMAKE_DISABLE_FIND_PACKAGE_GDAL=TRUE
+         -DCMAKE_DISABLE_FIND_PACKAGE_yaml-cpp=TRUE)
+run_step("build the layers-only consumer" "${CMAKE_COMMAND}" --build "${work}/build_layers")
+run_step("run the layers-only consumer" "${work}/build_layers/consumer")
 file(REMOVE_RECURSE "${work}")

@@ -1,5 +1,6 @@
 """`terramesh compare STREAM --gt GT.ply`: the views the truth is rendered from default to trajectory.txt beside GT and,
-without one, to the stream's own keyframe poses (the run says so); --views naming a missing file exits 2.
+without one, to the stream's own keyframe poses (the run says so); --views naming a missing file exits 2; the figures
+come from the scripts shipped beside the executable (share/terramesh/figures), never from a compiled-in source path.
 
 Run by ctest with: python3 -m unittest cli_compare_test (TERRAMESH_BIN set).
 """
@@ -62,6 +63,31 @@ class CompareViewsTest(unittest.TestCase):
         for column in ("depth_coverage", "accuracy_within_0.25m", "completeness_within_0.25m"):
             self.assertGreater(float(b[column]), 0.1, column)
             self.assertAlmostEqual(float(a[column]), float(b[column]), delta=0.02, msg=column)
+
+    def test_figures_come_from_the_scripts_shipped_beside_the_executable(self):
+        out = os.path.join(self.dir, "figures")
+        result = run("compare", self.stream, "--gt", os.path.join(self.data, "ground_truth.ply"), "--methods",
+                     "proposed", "--pairs", "0", "-o", out, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        for name in ("accuracy_vs_build_time.png", "top_views.png"):
+            path = os.path.join(out, name)
+            self.assertTrue(os.path.isfile(path), name)
+            self.assertEqual(os.stat(path).st_mode & 0o777, 0o644, name)
+        with open(os.path.join(out, "report.md")) as f:
+            self.assertIn("![top views](top_views.png)", f.read())
+        # A copy of the executable with nothing shipped beside it finds no script (no path into the
+        # source tree is compiled in): the tables are written, the figures are not.
+        alone = os.path.join(self.dir, "bin_alone", "bin")
+        os.makedirs(alone)
+        copy = shutil.copy(BIN, os.path.join(alone, "terramesh"))
+        out = os.path.join(self.dir, "figures_alone")
+        result = subprocess.run([copy, "compare", self.stream, "--gt", os.path.join(self.data, "ground_truth.ply"),
+                                 "--methods", "proposed", "--pairs", "0", "-o", out], capture_output=True, text=True,
+                                timeout=900)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("no figure script at", result.stdout + result.stderr)
+        self.assertTrue(os.path.isfile(os.path.join(out, "compare.csv")))
+        self.assertFalse(os.path.exists(os.path.join(out, "top_views.png")))
 
     def test_a_missing_views_file_exits_2_naming_it(self):
         missing = os.path.join(self.dir, "no_such_poses.txt")

@@ -13,6 +13,7 @@
 #include "planning/face_graph.h"
 #include "planning/surface_planner.h"
 #include "traversability/robot_profile.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::planning {

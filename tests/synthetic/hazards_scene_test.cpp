@@ -14,6 +14,7 @@
 #include "evaluation/robot_limits.h"
 #include "evaluation/truth_reachability.h"
 #include "traversability/robot_profile.h"
+#include "traversability/robot_profile_yaml.h"
 
 namespace terramesh::datasets {
 namespace {

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "test_support/traversability_scenes.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::traversability {

@@ -7,6 +7,7 @@
 #include <queue>
 
 #include "test_support/traversability_scenes.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::traversability {

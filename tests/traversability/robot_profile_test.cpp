@@ -8,6 +8,7 @@
 #include "common/input_error.h"
 #include "test_support/analytic_scenes.h"
 #include "test_support/temp_dir.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::traversability {

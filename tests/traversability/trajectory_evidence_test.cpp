@@ -1,6 +1,7 @@
 // Trajectory evidence: the sensor mounting in the profile, the sensor-height estimate and the
 // not-driven rule, the driven-ground samples, and on a simulated street the height of the road
 // under the path with and without them.
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/trajectory_evidence.h"
 
 #include <gtest/gtest.h>

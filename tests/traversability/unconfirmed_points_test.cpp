@@ -11,6 +11,7 @@
 #include "mesher/checkpoint.h"
 #include "mesher/mesher.h"
 #include "test_support/traversability_scenes.h"
+#include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
 namespace terramesh::traversability {

@@ -1,5 +1,6 @@
 // writeMapDirectory / readMapDirectory: every export of a map into one directory, and back.
 #include "traversability/map_directory.h"
+#include "traversability/robot_profile_yaml.h"
 
 #include <yaml-cpp/yaml.h>
 
