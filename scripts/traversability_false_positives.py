@@ -26,6 +26,7 @@ traversable) gets:
 Prints area in m^2 and fractions of the false-positive area per cause. python3 + numpy + scipy.
 """
 import math
+import os
 import sys
 import time
 from collections import defaultdict
@@ -33,11 +34,11 @@ from collections import defaultdict
 import numpy as np
 from scipy.spatial import cKDTree
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+import ply  # noqa: E402
+
 LABELS = ["road", "sidewalk", "curb", "wall", "obstacle", "vegetation", "ceiling", "ramp"]
 GROUND = {0, 1, 2, 5, 7}
-PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "<i2", "ushort": "<u2", "int": "<i4", "uint": "<u4",
-             "float": "<f4", "double": "<f8", "int8": "i1", "uint8": "u1", "int32": "<i4", "uint32": "<u4",
-             "float32": "<f4", "float64": "<f8"}
 
 
 START = time.process_time()
@@ -48,38 +49,17 @@ def progress(what):
 
 
 def read_ply(path):
-    """Binary little-endian PLY with triangle faces: (vertices Nx3, faces Mx3, face properties)."""
-    with open(path, "rb") as f:
-        header = []
-        while True:
-            line = f.readline().decode("ascii").strip()
-            header.append(line)
-            if line == "end_header":
-                break
-        data = f.read()
-    if "format binary_little_endian 1.0" not in header:
-        sys.exit(f"{path}: expected a binary little-endian PLY")
-    elements = []
-    for line in header:
-        words = line.split()
-        if words[:1] == ["element"]:
-            elements.append((words[1], int(words[2]), []))
-        elif words[:1] == ["property"]:
-            if words[1] == "list":
-                elements[-1][2].append(("n", PLY_TYPES[words[2]]))
-                elements[-1][2].append(("v", PLY_TYPES[words[3]], (3,)))
-            else:
-                elements[-1][2].append((words[2], PLY_TYPES[words[1]]))
-    out, offset = {}, 0
-    for name, count, fields in elements:
-        dtype = np.dtype(fields)
-        out[name] = np.frombuffer(data, dtype=dtype, count=count, offset=offset)
-        offset += dtype.itemsize * count
-    vertex, face = out["vertex"], out["face"]
-    if np.any(face["n"] != 3):
+    """A triangle mesh PLY (scripts/figures/ply.py, the one PLY reader of the Python tools): vertices
+    Nx3, faces Mx3 and the face element (face[property] is an array)."""
+    elements = ply.read(path)
+    if "vertex" not in elements or "face" not in elements:
+        sys.exit(f"{path}: expected vertex and face elements")
+    vertex, face = elements["vertex"], elements["face"]
+    indices = face["vertex_indices"] if "vertex_indices" in face else None
+    if not isinstance(indices, np.ndarray) or indices.ndim != 2 or indices.shape[1] != 3:
         sys.exit(f"{path}: only triangles are supported")
     vertices = np.stack([vertex["x"], vertex["y"], vertex["z"]], axis=1).astype(np.float64)
-    return vertices, face["v"].astype(np.int64), face
+    return vertices, indices.astype(np.int64), face
 
 
 def read_robot(path):
@@ -235,7 +215,8 @@ def main():
     centre = pieces.mean(1)
     area = 0.5 * np.linalg.norm(np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0]), axis=1)
     unknown = mprops["unknown"][piece_face] != 0
-    free = (~unknown) & (mprops["lethal"][piece_face] == 0)
+    uncertain = mprops["uncertain"][piece_face] != 0 if "uncertain" in mprops else np.zeros_like(unknown)
+    free = (~unknown) & (~uncertain) & (mprops["lethal"][piece_face] == 0)
 
     # Only free pieces are judged (precision needs nothing else).
     best_d = np.full(len(centre), np.inf)

@@ -1,4 +1,4 @@
-"""planner_demo/scripts/check_paths_lidar.py on tiny hand-made clouds: a flat ground with a box and
+"""scripts/check_paths_lidar.py on tiny hand-made clouds: a flat ground with a box and
 a hole, paths whose verdicts are known by construction (on the ground, floating, sunk, through the
 box, over the hole), the length over unknown faces, and KITTI-style scans where an object seen by
 one scan only (moving) does not invalidate a path but one seen by every scan does."""
@@ -10,7 +10,7 @@ import sys
 import tempfile
 import unittest
 
-SCRIPT = os.path.join(os.path.dirname(__file__), "..", "..", "planner_demo", "scripts", "check_paths_lidar.py")
+SCRIPT = os.path.join(os.path.dirname(__file__), "..", "..", "scripts", "check_paths_lidar.py")
 
 
 def python_with_numpy():

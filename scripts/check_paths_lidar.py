@@ -59,76 +59,15 @@ import sys
 
 import numpy as np
 
-PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
-             "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
-             "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
-
-
-class InputError(Exception):
-    pass
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+import ply  # noqa: E402  (scripts/figures/ply.py: the one PLY reader of the Python tools)
+from common import InputError  # noqa: E402
 
 
 def read_ply(path):
-    """Elements of a PLY file: {name: {property: array}}; a list property (faces) is an (n, k)
-    array, every list of the same length k. ASCII and binary little endian."""
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"ply":
-            raise InputError(f"{path}: line 1: expected 'ply'")
-        fmt, elements = None, []
-        while True:
-            line = f.readline()
-            if not line:
-                raise InputError(f"{path}: header: no end_header")
-            words = line.decode("ascii", "replace").split()
-            if not words or words[0] in ("comment", "obj_info"):
-                continue
-            if words[0] == "end_header":
-                break
-            if words[0] == "format":
-                fmt = words[1]
-            elif words[0] == "element":
-                elements.append((words[1], int(words[2]), []))
-            elif words[0] == "property":
-                if words[1] == "list":
-                    elements[-1][2].append((words[4], "list", PLY_TYPES[words[2]], PLY_TYPES[words[3]]))
-                else:
-                    elements[-1][2].append((words[2], PLY_TYPES[words[1]], None, None))
-        if fmt not in ("ascii", "binary_little_endian"):
-            raise InputError(f"{path}: format {fmt}: expected ascii or binary_little_endian")
-        data = f.read()
-    out, offset = {}, 0
-    if fmt == "ascii":
-        tokens = data.split()
-        pos = 0
-        for name, count, props in elements:
-            columns = {p[0]: [] for p in props}
-            for _ in range(count):
-                for pname, kind, ctype, itype in props:
-                    if kind == "list":
-                        n = int(tokens[pos]); pos += 1
-                        columns[pname].append([float(t) for t in tokens[pos:pos + n]]); pos += n
-                    else:
-                        columns[pname].append(float(tokens[pos])); pos += 1
-            out[name] = {k: np.array(v) for k, v in columns.items()}
-        return out
-    for name, count, props in elements:
-        fields = []
-        for pname, kind, ctype, itype in props:
-            if kind == "list":
-                # Fixed-length lists (triangles): read the first count to size the record.
-                probe = offset + sum(np.dtype(t).itemsize for _, t in fields)
-                k = int(np.frombuffer(data, ctype, 1, probe)[0]) if count else 3
-                fields += [(pname + "__n", "<" + ctype), (pname, "<" + itype, (k,))]
-            else:
-                fields.append((pname, "<" + kind))
-        dtype = np.dtype(fields)
-        rec = np.frombuffer(data, dtype, count, offset)
-        offset += dtype.itemsize * count
-        for pname, kind, _, _ in props:
-            if kind == "list" and count and np.any(rec[pname + "__n"] != rec[pname].shape[1]):
-                raise InputError(f"{path}: element {name}: lists of different lengths (expected triangles)")
-        out[name] = {p[0]: np.asarray(rec[p[0]]) for p in props}
-    return out
+    """Elements of a PLY file (scripts/figures/ply.py): element[property] is an array; a list
+    property (faces) an (n, k) array when every list has length k."""
+    return ply.read(path)
 
 
 def read_sim3(path):
@@ -139,7 +78,7 @@ def read_sim3(path):
             if words and words[0] in ("s", "R", "t"):
                 values[words[0]] = np.array([float(w) for w in words[1:]])
     if set(values) != {"s", "R", "t"} or values["R"].size != 9 or values["t"].size != 3:
-        raise InputError(f"{path}: expected lines 's S', 'R r00 ... r22', 't x y z'")
+        raise InputError(path, "", "expected lines 's S', 'R r00 ... r22', 't x y z'")
     return float(values["s"][0]), values["R"].reshape(3, 3), values["t"]
 
 
@@ -178,10 +117,10 @@ def read_path_csv(path):
     with open(path) as f:
         header = f.readline().strip().split(",")
     if header[:5] != ["x", "y", "z", "yaw", "face"]:
-        raise InputError(f"{path}: line 1: expected the header x,y,z,yaw,face,cost")
+        raise InputError(path, "line 1", "expected the header x,y,z,yaw,face,cost")
     rows = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     if rows.shape[0] < 2:
-        raise InputError(f"{path}: expected at least two states")
+        raise InputError(path, "", "expected at least two states")
     return rows[:, :3], rows[:, 4].astype(np.int64)
 
 
@@ -275,7 +214,7 @@ def robot_limits(robot):
     elif "footprint.length_m" in robot and "footprint.width_m" in robot:
         radius = 0.5 * np.hypot(robot["footprint.length_m"], robot["footprint.width_m"])
     else:
-        raise InputError("robot.yaml: expected footprint radius_m or length_m and width_m")
+        raise InputError("robot.yaml", "footprint", "expected radius_m or length_m and width_m")
     return radius, robot.get("max_step_m", 0.18), robot.get("min_clearance_m", 0.5)
 
 
@@ -375,14 +314,14 @@ def load_kitti_scans(directory, poses, frames, ego_radius_m):
                 key, values = line.split(":", 1)
                 calib[key.strip()] = np.array(values.split(), float)
     if "Tr" not in calib or calib["Tr"].size != 12:
-        raise InputError(f"{directory}/calib.txt: expected a line 'Tr: ' with 12 numbers")
+        raise InputError(f"{directory}/calib.txt", "Tr", "expected a line 'Tr: ' with 12 numbers")
     tr = calib["Tr"].reshape(3, 4)
     scans = []
     for frame in frames:
         name = os.path.join(directory, "velodyne", f"{frame:06d}.bin")
         raw = np.fromfile(name, np.float32)
         if raw.size == 0 or raw.size % 4:
-            raise InputError(f"{name}: expected float32 x y z reflectance records")
+            raise InputError(name, "", "expected float32 x y z reflectance records")
         v = raw.reshape(-1, 4)[:, :3].astype(float)
         v = v[np.hypot(v[:, 0], v[:, 1]) >= ego_radius_m]  # the car itself; the ground there is unseen
         cam = v @ tr[:, :3].T + tr[:, 3]
@@ -451,10 +390,10 @@ def main(argv):
         if args.footprint_radius_m is not None:
             robot = (args.footprint_radius_m,) + robot[1:]
         mpu, up_map = float(frame["metres_per_unit"]), np.asarray(frame["up"], float)
-        ply = read_ply(os.path.join(args.map_dir, "traversability.ply"))
-        verts = np.stack([ply["vertex"][k] for k in "xyz"], axis=1).astype(float)
-        tris = ply["face"]["vertex_indices"].astype(np.int64)
-        face_unknown = ply["face"]["unknown"].astype(bool)
+        map_ply = read_ply(os.path.join(args.map_dir, "traversability.ply"))
+        verts = np.stack([map_ply["vertex"][k] for k in "xyz"], axis=1).astype(float)
+        tris = map_ply["face"]["vertex_indices"].astype(np.int64)
+        face_unknown = map_ply["face"]["unknown"].astype(bool)
         if args.sim3:
             s, R, t = read_sim3(args.sim3)
             if abs(s - mpu) > 0.01 * mpu:
@@ -470,7 +409,7 @@ def main(argv):
             first, last = (int(v) for v in args.frames.split(":"))
             frames = list(range(first, last + 1))
             if poses.shape[1] != 12 or last >= len(poses) or first < 0:
-                raise InputError(f"{args.poses}: expected 12 numbers a line and frames {args.frames}")
+                raise InputError(args.poses, "", f"expected 12 numbers a line and frames {args.frames}")
         if args.kitti_scans:
             points = load_kitti_scans(args.kitti_scans, poses, frames, args.ego_radius_m)
         else:
@@ -497,7 +436,7 @@ def main(argv):
             path = os.path.join(given, "path.csv") if os.path.isdir(given) else given
             states, faces = read_path_csv(path)
             if faces.min() < 0 or faces.max() >= len(tris):
-                raise InputError(f"{path}: face index outside the map's {len(tris)} faces")
+                raise InputError(path, "face", f"index outside the map's {len(tris)} faces")
             seg_unknown = []
             for k in range(len(states) - 1):
                 mid = 0.5 * (states[k] + states[k + 1])

@@ -37,39 +37,16 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, dijkstra
 from scipy.spatial import cKDTree
 
-PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
-             "float": "f4", "double": "f8", "int8": "i1", "uint8": "u1", "int32": "i4", "uint32": "u4",
-             "float32": "f4", "float64": "f8"}
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
+import ply  # noqa: E402
+
 TRAVERSABLE_TRUTH = {0, 1, 2, 5, 7}  # road, sidewalk, curb, vegetation, ramp
 
 
 def read_ply(path):
-    """Binary little-endian PLY with triangle faces: {element: structured array}."""
-    with open(path, "rb") as f:
-        elements = []
-        while True:
-            line = f.readline().decode("ascii").strip()
-            if line.startswith("format") and "binary_little_endian" not in line:
-                sys.exit(f"{path}: only binary_little_endian PLY is read")
-            if line.startswith("element"):
-                _, name, count = line.split()
-                elements.append((name, int(count), []))
-            elif line.startswith("property list"):
-                _, _, count_type, index_type, name = line.split()
-                elements[-1][2].append((name + "_n", "<" + PLY_TYPES[count_type]))
-                elements[-1][2].append((name, "<" + PLY_TYPES[index_type], (3,)))
-            elif line.startswith("property"):
-                _, kind, name = line.split()
-                elements[-1][2].append((name, "<" + PLY_TYPES[kind]))
-            elif line == "end_header":
-                break
-        data = {}
-        for name, count, fields in elements:
-            dtype = np.dtype(fields)
-            data[name] = np.frombuffer(f.read(dtype.itemsize * count), dtype=dtype, count=count)
-            if "vertex_indices_n" in dtype.names and np.any(data[name]["vertex_indices_n"] != 3):
-                sys.exit(f"{path}: only triangle faces are read")
-    return data
+    """Elements of a PLY file (scripts/figures/ply.py, the one PLY reader of the Python tools):
+    element[property] is an array."""
+    return ply.read(path)
 
 
 def sample_triangles(p0, p1, p2, spacing):
@@ -225,14 +202,14 @@ def main():
     parser.add_argument("--max-tilt-deg", type=float, default=60.0)
     args = parser.parse_args()
 
-    ply = read_ply(os.path.join(args.map_dir, "traversability.ply"))
+    map_ply = read_ply(os.path.join(args.map_dir, "traversability.ply"))
     robot = read_yaml_scalars(os.path.join(args.map_dir, "robot.yaml"))
     frame = read_yaml_scalars(os.path.join(args.map_dir, "map_frame.yaml"))
     up = np.array([float(v) for v in frame.get("up_W", "[0, 0, 1]").strip("[]").split(",")])
     up /= np.linalg.norm(up)
     mpu = float(frame.get("metres_per_unit", 1))
-    vertices = np.stack([ply["vertex"]["x"], ply["vertex"]["y"], ply["vertex"]["z"]], axis=1)
-    layers = ply["face"]
+    vertices = np.stack([map_ply["vertex"]["x"], map_ply["vertex"]["y"], map_ply["vertex"]["z"]], axis=1)
+    layers = map_ply["face"]
     faces = layers["vertex_indices"].astype(np.int64)
     n = len(faces)
     p0, p1, p2 = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
