@@ -40,8 +40,8 @@ struct PlanePath {
 
 /// Plans from problem.start to problem.goal in OMPL's SE(2) with the configured planner (same
 /// planners, budget, time cap and simplification as planOnSurface; the heuristic is the straight
-/// distance). Start and goal must be valid: the caller snaps them. Not thread-safe only through
-/// OMPL's process-wide seed; each call builds its own OMPL setup.
+/// distance). Start and goal must be valid: the caller snaps them. Thread-safe for distinct calls
+/// (each builds its own OMPL setup) when the callbacks are.
 /// @throw std::invalid_argument if the config does not validate, a callback is missing, or the
 ///        bounds, validity_step or dense_step are not positive.
 PlanePath planOnPlane(const PlaneProblem& problem, const PlannerConfig& config, double dense_step);
