@@ -1,13 +1,15 @@
 #include "view_server.h"
 
+// Eigen (through baselines) before httplib: httplib brings in <resolv.h>, whose `_res` macro
+// breaks Eigen's product kernels.
+#include "baselines/voxel_surface.h"
+
 #include <httplib.h>
 
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <memory>
 #include <nlohmann/json.hpp>
-#include <octomap/OcTree.h>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -141,30 +143,16 @@ std::string runManifestJson(const fs::path& run_dir, const RunExtras& extras) {
 }
 
 std::string octomapToVoxels(const fs::path& file) {
-  std::unique_ptr<octomap::OcTree> tree;
-  if (file.extension() == ".bt") {
-    tree = std::make_unique<octomap::OcTree>(0.1);
-    if (!tree->readBinary(file.string())) throw InputError(file.string(), "header", "unreadable (expected an OctoMap binary tree, .bt)");
-  } else {
-    std::unique_ptr<octomap::AbstractOcTree> any(octomap::AbstractOcTree::read(file.string()));
-    auto* as_octree = dynamic_cast<octomap::OcTree*>(any.get());
-    if (!as_octree) throw InputError(file.string(), "header", "unreadable (expected an OctoMap OcTree, .ot)");
-    any.release();
-    tree.reset(as_octree);
-  }
+  const std::vector<baselines::OctreeLeaf> leaves = baselines::readOccupiedLeaves(file);
   std::string voxels = "TMVOXEL1";
+  appendUint32(voxels, static_cast<std::uint32_t>(leaves.size()));
   appendUint32(voxels, 0);
-  appendUint32(voxels, 0);
-  std::uint32_t count = 0;
-  for (auto leaf = tree->begin_leafs(), end = tree->end_leafs(); leaf != end; ++leaf) {
-    if (!tree->isNodeOccupied(*leaf)) continue;
-    appendFloat(voxels, static_cast<float>(leaf.getX()));
-    appendFloat(voxels, static_cast<float>(leaf.getY()));
-    appendFloat(voxels, static_cast<float>(leaf.getZ()));
-    appendFloat(voxels, static_cast<float>(leaf.getSize()));
-    ++count;
+  for (const baselines::OctreeLeaf& leaf : leaves) {
+    appendFloat(voxels, static_cast<float>(leaf.centre_G.x()));
+    appendFloat(voxels, static_cast<float>(leaf.centre_G.y()));
+    appendFloat(voxels, static_cast<float>(leaf.centre_G.z()));
+    appendFloat(voxels, static_cast<float>(leaf.size));
   }
-  for (int i = 0; i < 4; ++i) voxels[8 + static_cast<std::size_t>(i)] = static_cast<char>((count >> (8 * i)) & 0xFFu);
   return voxels;
 }
 

@@ -33,7 +33,7 @@ std::string runManifestJson(const std::filesystem::path& run_dir, const RunExtra
 
 /// voxels.bin from an OctoMap file (.bt or .ot): 8 bytes "TMVOXEL1", uint32 count, uint32 0,
 /// then per occupied leaf float32 x, y, z (centre), size (edge length), all little endian, in
-/// the octree's frame and units (planning::OctomapBaseline: metres, +z along up; docs/viewer.md).
+/// the octree's frame and units (baselines::OctomapBaseline: metres, +z along up; docs/viewer.md).
 /// @throw terramesh::InputError if the file cannot be read as an OcTree.
 std::string octomapToVoxels(const std::filesystem::path& file);
 

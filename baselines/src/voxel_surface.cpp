@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -12,9 +13,9 @@
 #include <unordered_set>
 #include <variant>
 
+#include "baselines/octomap_baseline.h"
 #include "common/grid_key.h"
 #include "common/input_error.h"
-#include "planning/octomap_baseline.h"
 
 namespace terramesh::baselines {
 
@@ -35,12 +36,12 @@ void OctomapFrame::validate() const {
 OctomapBuild buildOctomap(const datasets::SlamStream& stream, double resolution_m, double max_range_m,
                           const OctomapFrame& frame, const std::filesystem::path& bt_path) {
   frame.validate();
-  planning::OctomapConfig config;
+  OctomapConfig config;
   config.resolution_m = resolution_m;
   config.max_range_m = max_range_m;
   config.metres_per_unit = frame.metres_per_unit;
   config.up_W = frame.up_W;
-  planning::OctomapBaseline baseline(config);
+  OctomapBaseline baseline(config);
   for (const datasets::StreamEvent& event : stream.events) {
     if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) baseline.insertKeyframe(*keyframe);
   }
@@ -48,7 +49,7 @@ OctomapBuild buildOctomap(const datasets::SlamStream& stream, double resolution_
   temporary += ".partial.bt";
   baseline.writeBinary(temporary);
   std::filesystem::rename(temporary, bt_path);
-  const planning::OctomapStats stats = baseline.stats();
+  const OctomapStats stats = baseline.stats();
   OctomapBuild build;
   build.keyframes = stats.keyframes;
   build.points = stats.points;
@@ -134,6 +135,25 @@ mesher::TriangleMesh voxelSurfaceFromBt(const std::filesystem::path& bt_path, co
     }
   }
   return mesh;
+}
+
+std::vector<OctreeLeaf> readOccupiedLeaves(const std::filesystem::path& file) {
+  std::unique_ptr<octomap::OcTree> tree;
+  if (file.extension() == ".bt") {
+    tree = std::make_unique<octomap::OcTree>(0.1);
+    if (!tree->readBinary(file.string())) throw InputError(file.string(), "header", "unreadable (expected an OctoMap binary tree, .bt)");
+  } else {
+    std::unique_ptr<octomap::AbstractOcTree> any(octomap::AbstractOcTree::read(file.string()));
+    auto* as_octree = dynamic_cast<octomap::OcTree*>(any.get());
+    if (!as_octree) throw InputError(file.string(), "header", "unreadable (expected an OctoMap OcTree, .ot)");
+    any.release();
+    tree.reset(as_octree);
+  }
+  std::vector<OctreeLeaf> leaves;
+  for (auto leaf = tree->begin_leafs(), end = tree->end_leafs(); leaf != end; ++leaf) {
+    if (tree->isNodeOccupied(*leaf)) leaves.push_back({Eigen::Vector3d(leaf.getX(), leaf.getY(), leaf.getZ()), leaf.getSize()});
+  }
+  return leaves;
 }
 
 }  // namespace terramesh::baselines

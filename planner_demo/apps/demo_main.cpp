@@ -21,14 +21,14 @@
 #include <string>
 #include <variant>
 
+#include "baselines/grid_planner.h"
+#include "baselines/octomap_baseline.h"
 #include "common/atomic_file.h"
 #include "datasets/labeled_mesh.h"
 #include "datasets/stream_reader.h"
 #include "datasets/triangle_bvh.h"
 #include "ground_truth_check.h"
 #include "planning/face_graph.h"
-#include "planning/grid_planner.h"
-#include "planning/octomap_baseline.h"
 #include "planning/ompl_benchmark_log.h"
 #include "planning/surface_planner.h"
 #include "traversability/map_directory.h"
@@ -156,25 +156,25 @@ int run(const Options& options) {
   const bool scene_dir = std::filesystem::is_directory(options.scene);
   const datasets::SlamStream stream =
       datasets::readAnyStream(scene_dir ? options.scene / "stream.tmstream" : options.scene);
-  planning::OctomapConfig octomap_config;
+  baselines::OctomapConfig octomap_config;
   octomap_config.resolution_m = options.resolution_m;
   octomap_config.metres_per_unit = map.map.metres_per_unit;
   octomap_config.up_W = map.map.up_W;
-  planning::OctomapBaseline octomap(octomap_config);
+  baselines::OctomapBaseline octomap(octomap_config);
   for (const datasets::StreamEvent& event : stream.events) {
     if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) octomap.insertKeyframe(*keyframe);
   }
   octomap.writeBinary(options.out / "octomap.bt");
-  planning::GridRobotConfig robot;
+  baselines::GridRobotConfig robot;
   robot.max_step_m = map.profile.max_step_m;
   robot.max_slope_deg = map.profile.max_slope_deg;
   robot.min_clearance_m = map.profile.min_clearance_m;
   robot.footprint_radius_m = map.profile.inscribed_radius_m;
   robot.cost_weight = walkability.cost_weight;
   const auto grid_started = Clock::now();
-  const planning::HeightGrid grid = octomap.heightGrid(robot);
+  const baselines::HeightGrid grid = octomap.heightGrid(robot);
   const double grid_time = std::chrono::duration<double>(Clock::now() - grid_started).count();
-  const planning::OctomapStats octo = octomap.stats();
+  const baselines::OctomapStats octo = octomap.stats();
 
   // The truth, when there is one (a generated scene).
   const bool has_truth = scene_dir && std::filesystem::is_regular_file(options.scene / "ground_truth.ply");
@@ -250,7 +250,7 @@ int run(const Options& options) {
     const planning::PlanResult on_graph = planning::planOnFaceGraph(graph, a, b, config);
     record(i, "mesh_graph", graph_tally, on_graph.status, on_graph.solved(), statesOf(on_graph), on_graph.length_m,
            on_graph.cost, on_graph.planning_time_s, on_graph.reason);
-    const planning::GridPlanResult on_grid = planning::planOnGrid(grid, a, b, config, robot.cost_weight);
+    const baselines::GridPlanResult on_grid = baselines::planOnGrid(grid, a, b, config, robot.cost_weight);
     record(i, "octomap", voxels, on_grid.status, on_grid.solved(), on_grid.points_W, on_grid.length_m, on_grid.cost,
            on_grid.planning_time_s, on_grid.reason);
   }

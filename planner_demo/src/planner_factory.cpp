@@ -19,8 +19,6 @@ std::vector<std::string> plannerNames() {
   return {"rrtstar", "informed-rrtstar", "prmstar", "lazyprmstar", "bitstar", "aitstar"};
 }
 
-namespace internal {
-
 std::optional<std::string> canonicalPlannerName(const std::string& name) {
   std::string key;
   for (char c : name) {
@@ -33,6 +31,8 @@ std::optional<std::string> canonicalPlannerName(const std::string& name) {
   }
   return std::nullopt;
 }
+
+namespace internal {
 
 ompl::base::PlannerPtr makePlanner(const std::string& name, const ompl::base::SpaceInformationPtr& si, double range_m) {
   const std::optional<std::string> canonical = canonicalPlannerName(name);

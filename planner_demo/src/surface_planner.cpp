@@ -101,7 +101,7 @@ void densify(const FaceGraph& graph, const std::vector<SurfaceLocation>& points,
 
 void PlannerConfig::validate() const {
   std::ostringstream problems;
-  if (!internal::canonicalPlannerName(planner)) {
+  if (!canonicalPlannerName(planner)) {
     problems << " planner: \"" << planner << "\" (expected one of";
     for (const std::string& name : plannerNames()) problems << ' ' << name;
     problems << ");";
@@ -136,7 +136,7 @@ const char* toString(PlanStatus status) {
 PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W, const Eigen::Vector3d& goal_W,
                          const PlannerConfig& config) {
   PlanResult result;
-  result.planner = internal::canonicalPlannerName(config.planner).value_or(config.planner);
+  result.planner = canonicalPlannerName(config.planner).value_or(config.planner);
   if (auto decided = prepare(graph, start_W, goal_W, config, result)) return *decided;
 
   auto space = std::make_shared<SurfaceStateSpace>(graph, config.yaw_weight_m_per_rad, config.vertical_distance_weight,

@@ -2,13 +2,14 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <vector>
 
 #include "datasets/slam_stream.h"
 #include "mesher/triangle_mesh.h"
 
 namespace terramesh::baselines {
 
-/// How OctoMap's frame G relates to the map frame W: the same rotation planning::OctomapBaseline
+/// How OctoMap's frame G relates to the map frame W: the same rotation OctomapBaseline
 /// uses (z of G along up_W) and the scale to metres.
 struct OctomapFrame {
   Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
@@ -29,7 +30,7 @@ struct OctomapBuild {
 };
 
 /// Inserts every keyframe event of `stream` into an octree of `resolution_m` through
-/// planning::OctomapBaseline (camera centre as sensor origin, rays cut at `max_range_m`, <= 0 for
+/// OctomapBaseline (camera centre as sensor origin, rays cut at `max_range_m`, <= 0 for
 /// none) and writes it as OctoMap's binary `.bt` to `bt_path` (atomically).
 /// @throw std::invalid_argument for a bad resolution or frame; std::runtime_error if the file
 ///        cannot be written.
@@ -44,5 +45,16 @@ OctomapBuild buildOctomap(const datasets::SlamStream& stream, double resolution_
 /// O(occupied voxels).
 /// @throw terramesh::InputError if the file is not a readable OctoMap binary tree.
 mesher::TriangleMesh voxelSurfaceFromBt(const std::filesystem::path& bt_path, const OctomapFrame& frame);
+
+/// One occupied leaf of an octree: its centre and edge length, in the octree's frame G and units.
+struct OctreeLeaf {
+  Eigen::Vector3d centre_G = Eigen::Vector3d::Zero();
+  double size = 0;
+};
+
+/// The occupied leaves of an OctoMap file (`.bt` binary tree, or `.ot` holding an OcTree), in the
+/// tree's leaf order. O(leaves).
+/// @throw terramesh::InputError if the file cannot be read as an OcTree.
+std::vector<OctreeLeaf> readOccupiedLeaves(const std::filesystem::path& file);
 
 }  // namespace terramesh::baselines

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,10 @@ struct PlannerConfig {
 /// The planners by canonical name: rrtstar, informed-rrtstar, prmstar, lazyprmstar, bitstar,
 /// aitstar (all in OMPL 1.5.2).
 std::vector<std::string> plannerNames();
+
+/// The canonical name (one of plannerNames()) of a planner name as users write it ("RRT*",
+/// "informed_rrt_star", "BIT*", ...), or nothing if it names none of them.
+std::optional<std::string> canonicalPlannerName(const std::string& name);
 
 /// What a planning query came to. Expected outcomes, not errors.
 enum class PlanStatus {

@@ -1,12 +1,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "planning/surface_planner.h"
-
-namespace terramesh::planning {
+namespace terramesh::baselines {
 
 /// What a robot can drive on, for the 2.5D grid (same meaning as traversability::RobotProfile).
 struct GridRobotConfig {
@@ -53,24 +52,4 @@ struct HeightGrid {
   std::size_t memoryBytes() const;
 };
 
-/// A path on the grid, in the map frame W (map units), with z from the ground heights.
-struct GridPlanResult {
-  PlanStatus status = PlanStatus::kNotFound;
-  std::string reason;
-  std::string planner;
-  std::vector<Eigen::Vector3d> points_W;
-  double length_m = 0;  ///< 3D length over the ground heights
-  double cost = 0;      ///< integral of (1 + w * cost) over the 3D length
-  double planning_time_s = 0;
-  bool solved() const { return status == PlanStatus::kSolved; }
-};
-
-/// Plans in SE(2) over the grid with the configured OMPL planner (same planners, budget, seed,
-/// simplification as planOnSurface). Start and goal (map frame W) move to the nearest valid
-/// pose within the snap radius (horizontal distance, and the ground within 1 m vertically);
-/// kUnreachable when their valid cells are not 8-connected.
-/// @throw std::invalid_argument if the config does not validate or the grid is empty.
-GridPlanResult planOnGrid(const HeightGrid& grid, const Eigen::Vector3d& start_W, const Eigen::Vector3d& goal_W,
-                          const PlannerConfig& config, double cost_weight);
-
-}  // namespace terramesh::planning
+}  // namespace terramesh::baselines

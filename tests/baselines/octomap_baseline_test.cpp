@@ -5,12 +5,12 @@
 #include <cmath>
 #include <random>
 
-#include "planning/grid_planner.h"
-#include "planning/octomap_baseline.h"
+#include "baselines/grid_planner.h"
+#include "baselines/octomap_baseline.h"
 #include "planning/surface_planner.h"
 #include "test_support/temp_dir.h"
 
-namespace terramesh::planning {
+namespace terramesh::baselines {
 namespace {
 
 bool inBox(double x, double y) { return x > 4 && x < 6 && y > -1 && y < 1; }
@@ -87,8 +87,8 @@ TEST(OctomapBaselineTest, GroundHeightsStepsAndAPathRoundTheBox) {
   }
   EXPECT_GT(rim_cells, 5u);
 
-  setOmplLogging(false);
-  PlannerConfig planner;
+  planning::setOmplLogging(false);
+  planning::PlannerConfig planner;
   planner.planner = "rrtstar";
   planner.time_budget_s = 0.5;
   planner.time_cap_s = 60;  // found or not must not depend on the machine's load
@@ -100,8 +100,8 @@ TEST(OctomapBaselineTest, GroundHeightsStepsAndAPathRoundTheBox) {
   }
   EXPECT_GT(result.length_m, 6.0);
   // The box top is an island: unreachable.
-  EXPECT_NE(planOnGrid(grid, {2, 0, 0}, {5, 0, 1}, planner, robot.cost_weight).status, PlanStatus::kSolved);
+  EXPECT_NE(planOnGrid(grid, {2, 0, 0}, {5, 0, 1}, planner, robot.cost_weight).status, planning::PlanStatus::kSolved);
 }
 
 }  // namespace
-}  // namespace terramesh::planning
+}  // namespace terramesh::baselines

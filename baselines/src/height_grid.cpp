@@ -4,9 +4,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "planning/grid_planner.h"
+#include "baselines/height_grid.h"
 
-namespace terramesh::planning {
+namespace terramesh::baselines {
 
 void GridRobotConfig::validate() const {
   std::ostringstream problems;
@@ -95,4 +95,4 @@ std::size_t HeightGrid::memoryBytes() const {
          traversable.size() + valid_pose.size();
 }
 
-}  // namespace terramesh::planning
+}  // namespace terramesh::baselines

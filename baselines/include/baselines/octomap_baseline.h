@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <memory>
 
+#include "baselines/height_grid.h"
 #include "mesher/keyframe.h"
-#include "planning/grid_planner.h"
 
-namespace terramesh::planning {
+namespace terramesh::baselines {
 
 /// How the OctoMap baseline is built.
 struct OctomapConfig {
@@ -63,4 +63,4 @@ class OctomapBaseline {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace terramesh::planning
+}  // namespace terramesh::baselines

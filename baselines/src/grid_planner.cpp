@@ -1,23 +1,17 @@
-// SE(2) planning over the 2.5D grid of the OctoMap baseline, with the same OMPL planners.
-#include "planning/grid_planner.h"
+// SE(2) planning over the 2.5D grid of the OctoMap baseline, with planning's OMPL planners.
+#include "baselines/grid_planner.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <ompl/base/ScopedState.h>
-#include <ompl/base/spaces/SE2StateSpace.h>
-#include <ompl/geometric/SimpleSetup.h>
 #include <optional>
 #include <queue>
 #include <stdexcept>
 
-#include "planner_factory.h"
+#include "planning/plane_planner.h"
 
-namespace terramesh::planning {
+namespace terramesh::baselines {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 double groundAt(const HeightGrid& grid, double x, double y) {
   const Eigen::Vector2i c = grid.cellOf(x, y);
@@ -45,29 +39,6 @@ std::pair<double, double> segmentCost(const HeightGrid& grid, double w, const Ei
   }
   return {cost, length};
 }
-
-class GridCostObjective : public ompl::base::OptimizationObjective {
- public:
-  GridCostObjective(const ompl::base::SpaceInformationPtr& si, const HeightGrid& grid, double w)
-      : ompl::base::OptimizationObjective(si), grid_(grid), w_(w) {
-    description_ = "ground length weighted by grid cost";
-  }
-  ompl::base::Cost stateCost(const ompl::base::State*) const override { return identityCost(); }
-  ompl::base::Cost motionCost(const ompl::base::State* s1, const ompl::base::State* s2) const override {
-    return ompl::base::Cost(segmentCost(grid_, w_, xy(s1), xy(s2)).first);
-  }
-  ompl::base::Cost motionCostHeuristic(const ompl::base::State* s1, const ompl::base::State* s2) const override {
-    return ompl::base::Cost((xy(s1) - xy(s2)).norm());
-  }
-  static Eigen::Vector2d xy(const ompl::base::State* s) {
-    const auto* se2 = s->as<ompl::base::SE2StateSpace::StateType>();
-    return {se2->getX(), se2->getY()};
-  }
-
- private:
-  const HeightGrid& grid_;
-  double w_;
-};
 
 /// The nearest valid pose cell to p (G, metres) within `radius_m` horizontally and 1 m vertically.
 std::optional<Eigen::Vector2i> snapCell(const HeightGrid& grid, const Eigen::Vector3d& p, double radius_m) {
@@ -115,79 +86,60 @@ bool connected(const HeightGrid& grid, const Eigen::Vector2i& a, const Eigen::Ve
 }  // namespace
 
 GridPlanResult planOnGrid(const HeightGrid& grid, const Eigen::Vector3d& start_W, const Eigen::Vector3d& goal_W,
-                          const PlannerConfig& config, double cost_weight) {
+                          const planning::PlannerConfig& config, double cost_weight) {
   config.validate();
   if (grid.width <= 0 || grid.height <= 0) throw std::invalid_argument("planOnGrid: the grid is empty");
   GridPlanResult result;
-  result.planner = internal::canonicalPlannerName(config.planner).value_or(config.planner);
+  result.planner = planning::canonicalPlannerName(config.planner).value_or(config.planner);
   const Eigen::Vector3d start_G = grid.R_G_W * start_W * grid.metres_per_unit;
   const Eigen::Vector3d goal_G = grid.R_G_W * goal_W * grid.metres_per_unit;
   const auto start_cell = snapCell(grid, start_G, config.snap_radius_m);
   const auto goal_cell = snapCell(grid, goal_G, config.snap_radius_m);
   if (!start_cell || !goal_cell) {
-    result.status = start_cell ? PlanStatus::kNoGoal : PlanStatus::kNoStart;
+    result.status = start_cell ? planning::PlanStatus::kNoGoal : planning::PlanStatus::kNoStart;
     result.reason = std::string("no valid grid cell near the ") + (start_cell ? "goal" : "start");
     return result;
   }
   if (!connected(grid, *start_cell, *goal_cell)) {
-    result.status = PlanStatus::kUnreachable;
+    result.status = planning::PlanStatus::kUnreachable;
     result.reason = "start and goal cells are not connected through valid cells";
     return result;
   }
-  auto space = std::make_shared<ompl::base::SE2StateSpace>();
-  ompl::base::RealVectorBounds bounds(2);
-  bounds.setLow(0, grid.origin_x_m);
-  bounds.setHigh(0, grid.origin_x_m + grid.width * grid.resolution_m);
-  bounds.setLow(1, grid.origin_y_m);
-  bounds.setHigh(1, grid.origin_y_m + grid.height * grid.resolution_m);
-  space->setBounds(bounds);
-  ompl::geometric::SimpleSetup setup(space);
-  const ompl::base::SpaceInformationPtr si = setup.getSpaceInformation();
-  setup.setStateValidityChecker([&grid](const ompl::base::State* s) {
-    const Eigen::Vector2d p = GridCostObjective::xy(s);
-    const Eigen::Vector2i c = grid.cellOf(p.x(), p.y());
-    return grid.inside(c.x(), c.y()) && grid.valid_pose[grid.index(c.x(), c.y())] != 0;
-  });
-  si->setStateValidityCheckingResolution(0.5 * grid.resolution_m / space->getMaximumExtent());
-  setup.setOptimizationObjective(std::make_shared<GridCostObjective>(si, grid, cost_weight));
-  ompl::base::ScopedState<ompl::base::SE2StateSpace> start(space), goal(space);
   auto centre = [&](const Eigen::Vector2i& c) {
     return Eigen::Vector2d(grid.origin_x_m + (c.x() + 0.5) * grid.resolution_m, grid.origin_y_m + (c.y() + 0.5) * grid.resolution_m);
   };
-  const Eigen::Vector2d s2 = centre(*start_cell), g2 = centre(*goal_cell);
-  const double yaw = std::atan2(g2.y() - s2.y(), g2.x() - s2.x());
-  start->setXY(s2.x(), s2.y());
-  start->setYaw(yaw);
-  goal->setXY(g2.x(), g2.y());
-  goal->setYaw(yaw);
-  setup.setStartAndGoalStates(start, goal, 1e-9);
-  setup.setPlanner(internal::makePlanner(config.planner, si, config.range_m));
-  const auto started = Clock::now();
-  const internal::PlannerClearer clearer(setup);
-  const auto [status, planner_error] = internal::solveWithinCap(setup, config.time_budget_s, config.time_cap_s, started);
-  result.planning_time_s = std::chrono::duration<double>(Clock::now() - started).count();
-  if (status != ompl::base::PlannerStatus::EXACT_SOLUTION || !setup.haveExactSolutionPath()) {
-    result.status = PlanStatus::kNotFound;
-    result.reason = "the planner found no path within the budget (" + (planner_error.empty() ? status.asString() : planner_error) + ")";
+  planning::PlaneProblem problem;
+  problem.low = Eigen::Vector2d(grid.origin_x_m, grid.origin_y_m);
+  problem.high = Eigen::Vector2d(grid.origin_x_m + grid.width * grid.resolution_m, grid.origin_y_m + grid.height * grid.resolution_m);
+  problem.is_valid = [&grid](const Eigen::Vector2d& p) {
+    const Eigen::Vector2i c = grid.cellOf(p.x(), p.y());
+    return grid.inside(c.x(), c.y()) && grid.valid_pose[grid.index(c.x(), c.y())] != 0;
+  };
+  problem.motion_cost = [&grid, cost_weight](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return segmentCost(grid, cost_weight, a, b).first;
+  };
+  problem.validity_step = 0.5 * grid.resolution_m;
+  problem.start = centre(*start_cell);
+  problem.goal = centre(*goal_cell);
+  problem.yaw_rad = std::atan2(problem.goal.y() - problem.start.y(), problem.goal.x() - problem.start.x());
+  const planning::PlanePath path = planning::planOnPlane(problem, config, 0.5 * grid.resolution_m);
+  result.planning_time_s = path.planning_time_s;
+  if (path.status != planning::PlanStatus::kSolved) {
+    result.status = path.status;
+    result.reason = path.reason;
     return result;
   }
-  if (config.simplify) setup.simplifySolution(std::max(0.05, 0.25 * config.time_budget_s));
-  ompl::geometric::PathGeometric path = setup.getSolutionPath();
-  for (std::size_t i = 1; i < path.getStateCount(); ++i) {
-    const auto [cost, length] = segmentCost(grid, cost_weight, GridCostObjective::xy(path.getState(i - 1)),
-                                            GridCostObjective::xy(path.getState(i)));
+  for (std::size_t i = 1; i < path.waypoints.size(); ++i) {
+    const auto [cost, length] = segmentCost(grid, cost_weight, path.waypoints[i - 1], path.waypoints[i]);
     result.cost += cost;
     result.length_m += length;
   }
-  const double total_xy = path.length();
-  path.interpolate(static_cast<unsigned int>(std::max(2.0, std::ceil(total_xy / (0.5 * grid.resolution_m)))));
-  for (std::size_t i = 0; i < path.getStateCount(); ++i) {
-    const Eigen::Vector2d p = GridCostObjective::xy(path.getState(i));
+  for (const Eigen::Vector2d& p : path.dense) {
     const Eigen::Vector3d p_G(p.x(), p.y(), groundAt(grid, p.x(), p.y()));
     result.points_W.push_back(grid.R_G_W.transpose() * p_G / grid.metres_per_unit);
   }
-  result.status = PlanStatus::kSolved;
+  result.status = planning::PlanStatus::kSolved;
   return result;
 }
 
-}  // namespace terramesh::planning
+}  // namespace terramesh::baselines

@@ -1,4 +1,4 @@
-#include "planning/octomap_baseline.h"
+#include "baselines/octomap_baseline.h"
 
 #include "common/atomic_file.h"
 
@@ -10,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace terramesh::planning {
+namespace terramesh::baselines {
 
 void OctomapConfig::validate() const {
   std::ostringstream problems;
@@ -142,4 +142,4 @@ HeightGrid OctomapBaseline::heightGrid(const GridRobotConfig& robot) const {
   return grid;
 }
 
-}  // namespace terramesh::planning
+}  // namespace terramesh::baselines
