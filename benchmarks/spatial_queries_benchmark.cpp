@@ -12,8 +12,8 @@
 
 #include <random>
 
-#include "datasets/lidar_truth.h"
-#include "datasets/mesh_evaluation.h"
+#include "evaluation/lidar_truth.h"
+#include "evaluation/mesh_evaluation.h"
 #include "datasets/synthetic_scene.h"
 #include "spatial_backends.h"
 
@@ -50,8 +50,8 @@ const Workloads& workloads() {
     Workloads w;
     const datasets::SyntheticScene scene = datasets::buildStreetScene(datasets::StreetSceneConfig{});
     w.street = scene.ground_truth.mesh;
-    const datasets::PinholeCamera camera;
-    const datasets::DepthComparisonConfig config;  // max depth 40 m
+    const evaluation::PinholeCamera camera;
+    const evaluation::DepthComparisonConfig config;  // max depth 40 m
     const std::size_t views = 20, step = std::max<std::size_t>(1, scene.frames_T_W_C.size() / views);
     for (std::size_t f = 0; f < scene.frames_T_W_C.size(); f += step) {
       const Eigen::Isometry3d& pose = scene.frames_T_W_C[f];
@@ -61,12 +61,12 @@ const Workloads& workloads() {
         }
       }
     }
-    w.surface_queries = jitter(datasets::sampleSurface(w.street, 100000, 7, false), 100000, 0.2, 8);
-    datasets::LidarTruthOptions lidar;
+    w.surface_queries = jitter(evaluation::sampleSurface(w.street, 100000, 7, false), 100000, 0.2, 8);
+    evaluation::LidarTruthOptions lidar;
     lidar.poses_path = TERRAMESH_SHARED_DIR "/data/kitti_poses/00.txt";
     lidar.first_frame = 1;
     lidar.last_frame = 1;
-    w.lidar_cloud = datasets::readLidarTruth(TERRAMESH_SHARED_DIR "/data/kitti00_lidar", lidar, camera, config).returns_W;
+    w.lidar_cloud = evaluation::readLidarTruth(TERRAMESH_SHARED_DIR "/data/kitti00_lidar", lidar, camera, config).returns_W;
     w.lidar_queries = jitter(w.lidar_cloud, 100000, 0.2, 9);
     return w;
   }();

@@ -11,7 +11,6 @@
 #include <variant>
 
 #include "baselines/slam_points.h"
-#include "baselines/surface_measures.h"
 #include "cli_args.h"
 #include "commands.h"
 #include "common/atomic_file.h"
@@ -24,8 +23,11 @@
 #include "datasets/similarity_transform.h"
 #include "datasets/stream_reader.h"
 #include "datasets/triangle_bvh.h"
+#include "evaluation/geometry_truth.h"
 #include "evaluation/ground_truth_traversability.h"
+#include "evaluation/manifoldness.h"
 #include "evaluation/robot_limits.h"
+#include "evaluation/truth_pairs.h"
 #include "installed_files.h"
 #include "mesher_options.h"
 #include "traversability/robot_profile.h"
@@ -103,8 +105,8 @@ std::pair<std::size_t, std::size_t> parseFrames(const std::string& text) {
   return {*fields[0], *fields[1]};
 }
 
-std::vector<datasets::EvaluationView> readViews(const std::filesystem::path& path, std::size_t step) {
-  std::vector<datasets::EvaluationView> views;
+std::vector<evaluation::EvaluationView> readViews(const std::filesystem::path& path, std::size_t step) {
+  std::vector<evaluation::EvaluationView> views;
   const std::vector<Eigen::Isometry3d> poses = datasets::readKittiPoses(path);
   for (std::size_t i = 0; i < poses.size(); i += step) {
     views.push_back({poses[i].translation(), Eigen::Quaterniond(poses[i].linear())});
@@ -116,16 +118,16 @@ std::vector<datasets::EvaluationView> readViews(const std::filesystem::path& pat
 /// keyframes dropped), mapped by `to_truth` (positions) and `rotate` (camera-to-world rotations);
 /// every `step`-th.
 template <class ToTruth, class Rotate>
-std::vector<datasets::EvaluationView> streamViews(const datasets::SlamStream& stream, std::size_t step,
+std::vector<evaluation::EvaluationView> streamViews(const datasets::SlamStream& stream, std::size_t step,
                                                   const ToTruth& to_truth, const Rotate& rotate) {
-  std::map<mesher::KeyframeId, datasets::EvaluationView> latest;
+  std::map<mesher::KeyframeId, evaluation::EvaluationView> latest;
   for (const datasets::StreamEvent& event : stream.events) {
     if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
       latest[keyframe->id] = {to_truth(keyframe->position_W_C), rotate(keyframe->rotation_W_C)};
     }
     if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) latest.erase(removal->keyframe);
   }
-  std::vector<datasets::EvaluationView> views;
+  std::vector<evaluation::EvaluationView> views;
   std::size_t i = 0;
   for (const auto& [id, view] : latest) {
     if (i++ % step == 0) views.push_back(view);
@@ -146,7 +148,7 @@ std::filesystem::path viewsFile(const CompareOptions& o) {
 
 /// The views the truth is rendered from (viewsFile, or the stream's keyframes in the truth's
 /// frame), and how the report names them.
-std::pair<std::vector<datasets::EvaluationView>, std::string> truthViews(
+std::pair<std::vector<evaluation::EvaluationView>, std::string> truthViews(
     const CompareOptions& o, const std::filesystem::path& views_path, const datasets::SlamStream& stream,
     const std::optional<datasets::SimilarityTransform>& sim3, double metres_per_unit) {
   if (!views_path.empty()) return {readViews(views_path, o.view_step), "`" + views_path.string() + "`"};
@@ -154,7 +156,7 @@ std::pair<std::vector<datasets::EvaluationView>, std::string> truthViews(
   const auto position = [&](const Eigen::Vector3d& p) {
     return sim3 ? sim3->apply(p) : Eigen::Vector3d(p * metres_per_unit);
   };
-  std::vector<datasets::EvaluationView> views = streamViews(stream, o.view_step, position, rotate);
+  std::vector<evaluation::EvaluationView> views = streamViews(stream, o.view_step, position, rotate);
   if (views.empty()) throw InputError(o.input, "keyframes", "no keyframe poses to render the truth from (give --views FILE)");
   const std::string text = "the stream's " + std::to_string(views.size()) + " keyframe poses";
   return {std::move(views), text};
@@ -164,7 +166,7 @@ std::pair<std::vector<datasets::EvaluationView>, std::string> truthViews(
 std::vector<Eigen::Vector3d> keyframeCentres(const datasets::SlamStream& stream) {
   const auto same = [](const auto& x) { return x; };
   std::vector<Eigen::Vector3d> centres;
-  for (const datasets::EvaluationView& view : streamViews(stream, 1, same, same)) centres.push_back(view.centre_W);
+  for (const evaluation::EvaluationView& view : streamViews(stream, 1, same, same)) centres.push_back(view.centre_W);
   return centres;
 }
 
@@ -249,24 +251,24 @@ int runCompare(const std::vector<std::string>& args) {
   setup.input = o.input;
   setup.keyframes = stream.keyframeEventCount();
   setup.metres_per_unit = proposed.metres_per_unit;
-  baselines::GeometryTruthConfig truth_config;
+  evaluation::GeometryTruthConfig truth_config;
   truth_config.samples = o.samples;
   truth_config.seed = o.seed;
   truth_config.depth.stride_px = o.stride_px;
-  std::optional<baselines::GeometryTruth> truth;
+  std::optional<evaluation::GeometryTruth> truth;
   std::optional<datasets::LabeledMesh> labelled;
   if (o.gt) {
     labelled = datasets::readLabeledPly(*o.gt);
     if (labelled->mesh.faces.empty()) throw InputError(*o.gt, "faces", "the ground truth has no faces");
     const auto [views, views_text] = truthViews(o, views_path, stream, sim3, proposed.metres_per_unit);
     if (views_path.empty()) say("views: " + views_text + " (no --views, no trajectory.txt beside " + *o.gt + ")");
-    truth = baselines::GeometryTruth::fromMesh(labelled->mesh, views, truth_config);
+    truth = evaluation::GeometryTruth::fromMesh(labelled->mesh, views, truth_config);
     setup.truth = "mesh `" + *o.gt + "` rendered from " + views_text + " (" + std::to_string(truth->truthRays()) + " rays)";
   } else if (o.gt_lidar) {
-    datasets::LidarTruthOptions options;
+    evaluation::LidarTruthOptions options;
     options.poses_path = *o.gt_poses;
     std::tie(options.first_frame, options.last_frame) = parseFrames(o.gt_frames);
-    truth = baselines::GeometryTruth::fromLidar(*o.gt_lidar, options, truth_config);
+    truth = evaluation::GeometryTruth::fromLidar(*o.gt_lidar, options, truth_config);
     setup.truth = "KITTI LiDAR `" + *o.gt_lidar + "` frames " + o.gt_frames + " (" +
                   std::to_string(truth->truthRays()) + " rays)";
   }
@@ -274,7 +276,7 @@ int runCompare(const std::vector<std::string>& args) {
 
   std::optional<evaluation::GroundTruthTraversability> labels;
   std::optional<datasets::TriangleBvh> truth_bvh;
-  std::vector<ComparePair> pairs;
+  std::vector<evaluation::ComparePair> pairs;
   std::vector<Eigen::Vector3d> cameras_T;
   for (const Eigen::Vector3d& c : keyframeCentres(stream)) {
     cameras_T.push_back(sim3 ? sim3->apply(c) : Eigen::Vector3d(c * proposed.metres_per_unit));
@@ -285,13 +287,13 @@ int runCompare(const std::vector<std::string>& args) {
       labels = evaluation::labelTraversability(*labelled, evaluation::robotLimitsFrom(*profile),
                                                evaluation::estimateUpFromSlopes(*labelled), {});
       truth_bvh.emplace(labelled->mesh);
-      TruthPairsConfig pairs_config;
+      evaluation::TruthPairsConfig pairs_config;
       pairs_config.count = o.pairs;
       pairs_config.seed = o.seed;
       pairs_config.min_distance_m = o.pair_min_distance_m;
       pairs_config.max_view_distance_m = proposed.max_camera_distance_m;
       pairs_config.min_views = std::max(1, proposed.min_views);
-      const TruthPairs drawn = pairsOnObservedTruth(*labels, *truth_bvh, cameras_T, pairs_config);
+      const evaluation::TruthPairs drawn = evaluation::pairsOnObservedTruth(*labels, *truth_bvh, cameras_T, pairs_config);
       pairs = drawn.pairs;
       std::ostringstream text;
       text.precision(4);
@@ -308,7 +310,7 @@ int runCompare(const std::vector<std::string>& args) {
     } else {
       std::vector<Eigen::Vector3d> road;
       for (const Eigen::Vector3d& c : cameras_T) road.push_back(c - o.camera_height_m * up_T);
-      pairs = pairsOnPoints(road, o.pairs, o.seed, o.pair_min_distance_m);
+      pairs = evaluation::pairsOnPoints(road, o.pairs, o.seed, o.pair_min_distance_m);
       setup.pairs = std::to_string(pairs.size()) + " among the keyframe centres lowered by " +
                     std::to_string(o.camera_height_m) + " m (the road under the camera; no labelled truth)";
     }
@@ -334,7 +336,7 @@ int runCompare(const std::vector<std::string>& args) {
     if (!row.built.ok) continue;
     const auto started = std::chrono::steady_clock::now();
     const mesher::TriangleMesh surface = toTruth(row.built.surface);
-    row.manifold = baselines::measureManifoldness(surface);
+    row.manifold = evaluation::measureManifoldness(surface);
     if (truth) {
       row.geometry = truth->score(surface);
       row.has_geometry = true;

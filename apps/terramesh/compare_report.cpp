@@ -105,7 +105,7 @@ void writeTopView(const std::filesystem::path& path, const mesher::TriangleMesh&
   writeFileAtomically(path, csv.str());
 }
 
-void writePairsCsv(const std::filesystem::path& path, const std::vector<ComparePair>& pairs,
+void writePairsCsv(const std::filesystem::path& path, const std::vector<evaluation::ComparePair>& pairs,
                    const std::vector<CompareRow>& rows) {
   std::ostringstream csv;
   csv.precision(10);
@@ -115,7 +115,7 @@ void writePairsCsv(const std::filesystem::path& path, const std::vector<CompareP
   }
   csv << '\n';
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const ComparePair& p = pairs[i];
+    const evaluation::ComparePair& p = pairs[i];
     csv << i << ',' << p.start_W.x() << ',' << p.start_W.y() << ',' << p.start_W.z() << ',' << p.goal_W.x() << ','
         << p.goal_W.y() << ',' << p.goal_W.z() << ',' << (p.goal_W - p.start_W).norm() << ',' << p.truth_length_m;
     for (const CompareRow& r : rows) {

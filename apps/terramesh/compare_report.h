@@ -5,10 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "baselines/surface_measures.h"
 #include "compare_maps.h"
 #include "compare_planning.h"
+#include "evaluation/geometry_truth.h"
+#include "evaluation/manifoldness.h"
 #include "evaluation/traversability_score.h"
+#include "evaluation/truth_pairs.h"
 #include "traversability/layered_mesh.h"
 
 namespace terramesh::cli {
@@ -18,9 +20,9 @@ struct CompareRow {
   MapSpec spec;
   BuiltMap built;
   double measure_s = 0;  ///< time spent measuring (not part of the build)
-  baselines::Manifoldness manifold;
+  evaluation::Manifoldness manifold;
   bool has_geometry = false;
-  baselines::GeometryScores geometry;
+  evaluation::GeometryScores geometry;
   bool has_traversability = false;
   evaluation::TraversabilityScore traversability;
   bool has_planning = false;
@@ -51,7 +53,7 @@ void writeTopView(const std::filesystem::path& path, const mesher::TriangleMesh&
                   std::size_t max_faces = 400000);
 
 /// pairs.csv: one line per pair (start, goal, truth length) with every map's status.
-void writePairsCsv(const std::filesystem::path& path, const std::vector<ComparePair>& pairs,
+void writePairsCsv(const std::filesystem::path& path, const std::vector<evaluation::ComparePair>& pairs,
                    const std::vector<CompareRow>& rows);
 
 /// report.md: the setup, the table, each map's parameters, the figures and how the columns

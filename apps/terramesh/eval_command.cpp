@@ -11,8 +11,8 @@
 #include "common/atomic_file.h"
 #include "common/input_error.h"
 #include "datasets/kitti_odometry_reader.h"
-#include "datasets/lidar_truth.h"
-#include "datasets/mesh_evaluation.h"
+#include "evaluation/lidar_truth.h"
+#include "evaluation/mesh_evaluation.h"
 #include "datasets/similarity_transform.h"
 #include "datasets/triangle_bvh.h"
 #include "mesher/mesh_io.h"
@@ -20,9 +20,9 @@
 namespace terramesh::cli {
 namespace {
 
-using datasets::DepthComparisonConfig;
-using datasets::DepthErrors;
-using datasets::DistanceStats;
+using evaluation::DepthComparisonConfig;
+using evaluation::DepthErrors;
+using evaluation::DistanceStats;
 
 /// The parsed command line.
 struct EvalOptions {
@@ -94,7 +94,7 @@ std::vector<Eigen::Vector3d> thin(const std::vector<Eigen::Vector3d>& points, st
   return kept;
 }
 
-std::vector<Eigen::Vector3d> rayEnds(const std::vector<datasets::DepthRay>& rays) {
+std::vector<Eigen::Vector3d> rayEnds(const std::vector<evaluation::DepthRay>& rays) {
   std::vector<Eigen::Vector3d> ends;
   ends.reserve(rays.size());
   for (const auto& ray : rays) ends.push_back(ray.origin_W + ray.truth_depth_m * ray.direction_W);
@@ -128,8 +128,8 @@ void markGridVertices(mesher::TriangleMesh& mesh, double step) {
   }
 }
 
-std::vector<datasets::EvaluationView> readViews(const std::filesystem::path& path, std::size_t step) {
-  std::vector<datasets::EvaluationView> views;
+std::vector<evaluation::EvaluationView> readViews(const std::filesystem::path& path, std::size_t step) {
+  std::vector<evaluation::EvaluationView> views;
   const std::vector<Eigen::Isometry3d> poses = datasets::readKittiPoses(path);
   for (std::size_t i = 0; i < poses.size(); i += step) {
     views.push_back({poses[i].translation(), Eigen::Quaterniond(poses[i].linear())});
@@ -173,7 +173,7 @@ int runEval(const std::vector<std::string>& args) {
   const std::size_t sample_count = options.samples;
   const double match_radius_m = options.match_radius_m;
   const std::uint64_t seed = options.seed;
-  const datasets::PinholeCamera camera;
+  const evaluation::PinholeCamera camera;
 
   // The mesh, in the ground truth's frame.
   const std::filesystem::path mesh_path = options.mesh;
@@ -186,7 +186,7 @@ int runEval(const std::vector<std::string>& args) {
   const datasets::TriangleBvh mesh_bvh(mesh);
   if (measured.faces.empty()) throw InputError(mesh_path.string(), "faces", "every face touches a Steiner vertex");
   const datasets::TriangleBvh measured_bvh(measured);
-  const std::vector<Eigen::Vector3d> mesh_samples = datasets::sampleSurface(measured, sample_count, seed, false);
+  const std::vector<Eigen::Vector3d> mesh_samples = evaluation::sampleSurface(measured, sample_count, seed, false);
 
   std::ostringstream report;
   report << "mesh " << mesh_path.string() << '\n'
@@ -196,20 +196,20 @@ int runEval(const std::vector<std::string>& args) {
          << '\n'
          << "mesh_faces " << mesh.faces.size() << '\n'
          << "mesh_measured_faces " << measured.faces.size() << '\n';
-  std::vector<datasets::DepthRay> truth_rays;
+  std::vector<evaluation::DepthRay> truth_rays;
   DistanceStats accuracy;
   if (lidar) {
-    datasets::LidarTruthOptions lidar_options;
+    evaluation::LidarTruthOptions lidar_options;
     lidar_options.poses_path = *options.poses;
     std::tie(lidar_options.first_frame, lidar_options.last_frame) = parseInclusiveRange(options.frames);
-    datasets::LidarTruth truth = datasets::readLidarTruth(*options.gt_lidar, lidar_options, camera, config);
+    evaluation::LidarTruth truth = evaluation::readLidarTruth(*options.gt_lidar, lidar_options, camera, config);
     truth_rays = std::move(truth.rays);
     std::vector<Eigen::Vector3d> covered_samples;
     for (const Eigen::Vector3d& p : mesh_samples) {
       if (truth.covers(p, config.max_depth_m, &camera)) covered_samples.push_back(p);
     }
     const datasets::PointCloudIndex cloud(truth.returns_W);
-    accuracy = datasets::distancesToPoints(covered_samples, cloud, match_radius_m);
+    accuracy = evaluation::distancesToPoints(covered_samples, cloud, match_radius_m);
     report << "truth lidar " << *options.gt_lidar << " frames " << options.frames << '\n'
            << "truth_scans " << truth.world_from_sensor.size() << '\n'
            << "truth_returns " << truth.returns_read << '\n'
@@ -218,15 +218,15 @@ int runEval(const std::vector<std::string>& args) {
     const mesher::TriangleMesh truth_mesh = mesher::readMesh(*options.gt_mesh);
     const datasets::TriangleBvh truth_bvh(truth_mesh);
     const auto views = readViews(*options.views, options.view_step);
-    truth_rays = datasets::renderTruthRays(truth_bvh, views, camera, config);
-    accuracy = datasets::distancesToSurface(mesh_samples, truth_bvh);
+    truth_rays = evaluation::renderTruthRays(truth_bvh, views, camera, config);
+    accuracy = evaluation::distancesToSurface(mesh_samples, truth_bvh);
     report << "truth mesh " << *options.gt_mesh << '\n'
            << "truth_views " << views.size() << '\n';
   }
   if (truth_rays.empty()) throw UsageError("eval: no ground-truth ray within " + fixed(config.max_depth_m, 1) + " m of a view");
-  const DepthErrors depth = datasets::compareDepths(mesh_bvh, mesh, truth_rays, config);
+  const DepthErrors depth = evaluation::compareDepths(mesh_bvh, mesh, truth_rays, config);
   const DistanceStats completeness =
-      datasets::distancesToSurface(thin(rayEnds(truth_rays), sample_count), measured_bvh);
+      evaluation::distancesToSurface(thin(rayEnds(truth_rays), sample_count), measured_bvh);
 
   report << "depth_truth_rays " << depth.truth_rays << '\n'
          << "depth_rays_hitting_mesh " << depth.compared << '\n'

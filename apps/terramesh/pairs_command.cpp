@@ -1,7 +1,7 @@
 // terramesh pairs GT.ply --robot R.yaml -o pairs.csv: start/goal pairs on a labelled ground truth
 // with, per pair, whether the truth joins them for that robot (evaluation::TruthReachability).
-// Random pairs come from terramesh compare's pairsOnObservedTruth; the hazards scene adds one pair
-// across each of its hazards (hazards.csv of terramesh generate).
+// Random pairs come from evaluation::pairsOnObservedTruth (as in terramesh compare); the hazards
+// scene adds one pair across each of its hazards (hazards.csv of terramesh generate).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,14 +16,14 @@
 #include "commands.h"
 #include "common/atomic_file.h"
 #include "common/input_error.h"
-#include "compare_planning.h"
 #include "datasets/kitti_odometry_reader.h"
 #include "datasets/labeled_mesh.h"
 #include "datasets/triangle_bvh.h"
 #include "evaluation/ground_truth_traversability.h"
 #include "evaluation/robot_limits.h"
+#include "evaluation/truth_checker.h"
+#include "evaluation/truth_pairs.h"
 #include "evaluation/truth_reachability.h"
-#include "ground_truth_check.h"
 #include "traversability/robot_profile.h"
 #include "traversability/robot_profile_yaml.h"
 
@@ -105,12 +105,13 @@ std::vector<PairRow> randomPairs(const evaluation::GroundTruthTraversability& la
                                  const PairsOptions& options) {
   std::vector<Eigen::Vector3d> cameras;
   for (const Eigen::Isometry3d& pose : datasets::readKittiPoses(trajectory)) cameras.push_back(pose.translation());
-  TruthPairsConfig config;
+  evaluation::TruthPairsConfig config;
   config.count = options.pairs;
   config.seed = static_cast<std::uint64_t>(options.seed);
   config.min_distance_m = options.min_distance_m;
   std::vector<PairRow> rows;
-  for (const ComparePair& pair : pairsOnObservedTruth(labels, truth_bvh, cameras, config).pairs) {
+  const evaluation::TruthPairs drawn = evaluation::pairsOnObservedTruth(labels, truth_bvh, cameras, config);
+  for (const evaluation::ComparePair& pair : drawn.pairs) {
     rows.push_back({"random", "random_" + std::to_string(rows.size() + 1), pair.start_W, pair.goal_W,
                     pair.truth_length_m});
   }
@@ -177,8 +178,8 @@ int runPairs(const std::vector<std::string>& args) {
   }
   if (rows.empty()) throw UsageError("pairs: no pairs: no random pairs drawn and no hazards file");
 
-  const planning::demo::TruthChecker checker(truth, truth_bvh);
-  planning::demo::TruthCheckConfig check;
+  const evaluation::TruthChecker checker(truth, truth_bvh);
+  evaluation::TruthCheckConfig check;
   check.footprint_radius_m = profile.footprintCircumradiusM();
   check.max_step_m = profile.max_step_m;
   check.min_clearance_m = profile.min_clearance_m;
@@ -191,7 +192,7 @@ int runPairs(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const PairRow& r = rows[i];
     const evaluation::ReachAnswer answer = reach.connects(r.start_W, r.goal_W);
-    const planning::demo::TruthCheck straight =
+    const evaluation::TruthCheck straight =
         checker.check(drapedLine(truth_bvh, r.start_W, r.goal_W, up, check.spacing_m, 2.5), up, 1.0, check);
     reachable += answer.reachable() ? 1 : 0;
     csv << i << ',' << r.source << ',' << r.name << ',' << r.start_W.x() << ',' << r.start_W.y() << ','

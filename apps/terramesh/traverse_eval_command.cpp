@@ -23,7 +23,7 @@
 #include "mesh_frame_hints.h"
 #include "evaluation/robot_limits.h"
 #include "evaluation/traversability_score.h"
-#include "ground_truth_check.h"
+#include "evaluation/truth_checker.h"
 #include "mesher/mesh_io.h"
 #include "traversability/map_directory.h"
 
@@ -176,20 +176,20 @@ std::vector<Eigen::Vector3d> readPathCsv(const std::string& file) {
 void checkPaths(const std::vector<std::string>& files, const datasets::SimilarityTransform* sim3,
                 const datasets::LabeledMesh& truth, const Eigen::Vector3d& up,
                 const traversability::RobotProfile& profile, std::ostream& report) {
-  planning::demo::TruthCheckConfig config;
+  evaluation::TruthCheckConfig config;
   config.footprint_radius_m = profile.footprintCircumradiusM();
   config.max_step_m = profile.max_step_m;
   config.min_clearance_m = profile.min_clearance_m;
   config.max_slope_deg = profile.max_slope_deg;
   const datasets::TriangleBvh bvh(truth.mesh);
-  const planning::demo::TruthChecker checker(truth, bvh);
+  const evaluation::TruthChecker checker(truth, bvh);
   std::size_t valid = 0;
   for (const std::string& file : files) {
     std::vector<Eigen::Vector3d> path = readPathCsv(file);
     if (sim3) {
       for (Eigen::Vector3d& p : path) p = sim3->apply(p);
     }
-    const planning::demo::TruthCheck check = checker.check(path, up, 1.0, config);
+    const evaluation::TruthCheck check = checker.check(path, up, 1.0, config);
     valid += check.valid ? 1 : 0;
     report << "path_valid " << file << ' ' << (check.valid ? 1 : 0) << '\n'
            << "path_max_ground_offset_m " << file << ' ' << fixed(check.max_ground_offset_m, 3) << '\n'

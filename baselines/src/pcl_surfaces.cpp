@@ -16,7 +16,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "baselines/surface_measures.h"
+#include "baselines/weld_vertices.h"
 #include "pcl_mesh_conversion.h"
 
 namespace terramesh::baselines {

@@ -27,7 +27,7 @@
 #include "datasets/labeled_mesh.h"
 #include "datasets/stream_reader.h"
 #include "datasets/triangle_bvh.h"
-#include "ground_truth_check.h"
+#include "evaluation/truth_checker.h"
 #include "planning/face_graph.h"
 #include "planning/ompl_benchmark_log.h"
 #include "planning/surface_planner.h"
@@ -181,12 +181,12 @@ int run(const Options& options) {
   const datasets::LabeledMesh truth =
       has_truth ? datasets::readLabeledPly(options.scene / "ground_truth.ply") : datasets::LabeledMesh{};
   const datasets::TriangleBvh bvh(truth.mesh);
-  planning::demo::TruthCheckConfig truth_config;  // the map's robot; a rectangle as its circumscribed disc
+  evaluation::TruthCheckConfig truth_config;  // the map's robot; a rectangle as its circumscribed disc
   truth_config.footprint_radius_m = map.profile.footprintCircumradiusM();
   truth_config.max_step_m = map.profile.max_step_m;
   truth_config.min_clearance_m = map.profile.min_clearance_m;
   truth_config.max_slope_deg = map.profile.max_slope_deg;
-  std::optional<planning::demo::TruthChecker> checker;
+  std::optional<evaluation::TruthChecker> checker;
   if (has_truth) checker.emplace(truth, bvh);
 
   planning::PlannerConfig config;
@@ -219,7 +219,7 @@ int run(const Options& options) {
   csv << "pair,map,status,length_m,cost,time_s,truth_valid,truth_reason,start_x,start_y,start_z,goal_x,goal_y,goal_z,"
          "reason\n";
   auto row = [&](std::size_t i, const char* type, planning::PlanStatus status, double length, double cost, double time,
-                 const planning::demo::TruthCheck& check, bool checked, const std::string& reason) {
+                 const evaluation::TruthCheck& check, bool checked, const std::string& reason) {
     const Eigen::Vector3d& a = pairs[i].first;
     const Eigen::Vector3d& b = pairs[i].second;
     csv << i << ',' << type << ',' << planning::toString(status) << ',' << length << ',' << cost << ',' << time << ','
@@ -231,9 +231,9 @@ int run(const Options& options) {
                     const std::vector<Eigen::Vector3d>& path, double length, double cost, double time,
                     const std::string& reason) {
     const bool checked = solved && has_truth;
-    const planning::demo::TruthCheck check =
+    const evaluation::TruthCheck check =
         checked ? checker->check(path, map.map.up_W, map.map.metres_per_unit, truth_config)
-                : planning::demo::TruthCheck{};
+                : evaluation::TruthCheck{};
     tally.add(solved, length, cost, time, check.valid, checked);
     row(i, type, status, length, cost, time, check, checked, reason);
   };

@@ -6,12 +6,15 @@
 #include <functional>
 
 #include "common/input_error.h"
-#include "datasets/lidar_truth.h"
 #include "datasets/similarity_transform.h"
+#include "evaluation/lidar_truth.h"
 #include "test_support/temp_dir.h"
 
-namespace terramesh::datasets {
+namespace terramesh::evaluation {
 namespace {
+
+using datasets::SimilarityTransform;
+using datasets::readSimilarityTransform;
 
 const std::filesystem::path kShared = TERRAMESH_SHARED_DIR;
 const std::filesystem::path kLidar = kShared / "data" / "kitti00_lidar";
@@ -115,4 +118,4 @@ TEST(LidarTruth, NoScanInTheRangeIsAnError) {
 }
 
 }  // namespace
-}  // namespace terramesh::datasets
+}  // namespace terramesh::evaluation

@@ -5,12 +5,15 @@
 #include <limits>
 #include <random>
 
-#include "datasets/mesh_evaluation.h"
 #include "datasets/point_cloud_index.h"
 #include "datasets/triangle_bvh.h"
+#include "evaluation/mesh_evaluation.h"
 
-namespace terramesh::datasets {
+namespace terramesh::evaluation {
 namespace {
+
+using datasets::PointCloudIndex;
+using datasets::TriangleBvh;
 
 /// A square grid of `n` x `n` quads over [-half, half]^2 at height z, two triangles per quad.
 /// Quads whose centre has x > 0 are left out when `left_half_only`.
@@ -160,4 +163,4 @@ TEST(PointCloudIndex, NearestMatchesBruteForce) {
 }
 
 }  // namespace
-}  // namespace terramesh::datasets
+}  // namespace terramesh::evaluation

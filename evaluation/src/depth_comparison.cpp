@@ -1,9 +1,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "datasets/mesh_evaluation.h"
+#include "evaluation/mesh_evaluation.h"
 
-namespace terramesh::datasets {
+namespace terramesh::evaluation {
 
 Eigen::Vector3d PinholeCamera::rayDirection_C(double u, double v) const {
   return Eigen::Vector3d((u - cx_px) / fx_px, (v - cy_px) / fy_px, 1.0).normalized();
@@ -16,7 +16,7 @@ bool PinholeCamera::sees(const Eigen::Vector3d& p_C) const {
   return u >= 0 && u < width_px && v >= 0 && v < height_px;
 }
 
-std::vector<DepthRay> renderTruthRays(const TriangleBvh& truth, const std::vector<EvaluationView>& views,
+std::vector<DepthRay> renderTruthRays(const datasets::TriangleBvh& truth, const std::vector<EvaluationView>& views,
                                       const PinholeCamera& camera, const DepthComparisonConfig& config) {
   std::vector<DepthRay> rays;
   const int stride = std::max(1, config.stride_px);
@@ -45,7 +45,7 @@ std::vector<DepthRay> raysToPoints(const Eigen::Vector3d& origin_W, const std::v
   return rays;
 }
 
-DepthErrors compareDepths(const TriangleBvh& reconstruction, const mesher::TriangleMesh& mesh,
+DepthErrors compareDepths(const datasets::TriangleBvh& reconstruction, const mesher::TriangleMesh& mesh,
                           const std::vector<DepthRay>& truth, const DepthComparisonConfig& config) {
   DepthErrors errors;
   errors.truth_rays = truth.size();
@@ -81,4 +81,4 @@ DepthErrors compareDepths(const TriangleBvh& reconstruction, const mesher::Trian
   return errors;
 }
 
-}  // namespace terramesh::datasets
+}  // namespace terramesh::evaluation

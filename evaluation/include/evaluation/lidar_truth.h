@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "datasets/mesh_evaluation.h"
+#include "evaluation/mesh_evaluation.h"
 
-namespace terramesh::datasets {
+namespace terramesh::evaluation {
 
 /// Which LiDAR returns of a KITTI odometry sequence serve as depth ground truth.
 struct LidarTruthOptions {
@@ -47,4 +47,4 @@ struct LidarTruth {
 LidarTruth readLidarTruth(const std::filesystem::path& sequence_directory, const LidarTruthOptions& options,
                           const PinholeCamera& camera, const DepthComparisonConfig& config);
 
-}  // namespace terramesh::datasets
+}  // namespace terramesh::evaluation

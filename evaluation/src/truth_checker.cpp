@@ -1,4 +1,4 @@
-#include "ground_truth_check.h"
+#include "evaluation/truth_checker.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace terramesh::planning::demo {
+namespace terramesh::evaluation {
 namespace {
 
 bool drivable(datasets::SurfaceLabel label) {
@@ -213,4 +213,4 @@ TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const
   return check;
 }
 
-}  // namespace terramesh::planning::demo
+}  // namespace terramesh::evaluation

@@ -1,9 +1,9 @@
 #include <algorithm>
 #include <random>
 
-#include "datasets/mesh_evaluation.h"
+#include "evaluation/mesh_evaluation.h"
 
-namespace terramesh::datasets {
+namespace terramesh::evaluation {
 namespace {
 
 DistanceStats summarise(std::vector<double> distances, std::size_t samples) {
@@ -60,14 +60,14 @@ std::vector<Eigen::Vector3d> sampleSurface(const mesher::TriangleMesh& mesh, std
   return samples;
 }
 
-DistanceStats distancesToSurface(const std::vector<Eigen::Vector3d>& samples, const TriangleBvh& surface) {
+DistanceStats distancesToSurface(const std::vector<Eigen::Vector3d>& samples, const datasets::TriangleBvh& surface) {
   std::vector<double> distances;
   distances.reserve(samples.size());
   for (const Eigen::Vector3d& p : samples) distances.push_back(surface.closestPoint(p).distance);
   return summarise(std::move(distances), samples.size());
 }
 
-DistanceStats distancesToPoints(const std::vector<Eigen::Vector3d>& samples, const PointCloudIndex& cloud,
+DistanceStats distancesToPoints(const std::vector<Eigen::Vector3d>& samples, const datasets::PointCloudIndex& cloud,
                                 double max_distance_m) {
   std::vector<double> distances;
   distances.reserve(samples.size());
@@ -77,4 +77,4 @@ DistanceStats distancesToPoints(const std::vector<Eigen::Vector3d>& samples, con
   return summarise(std::move(distances), samples.size());
 }
 
-}  // namespace terramesh::datasets
+}  // namespace terramesh::evaluation

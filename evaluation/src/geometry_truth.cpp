@@ -4,11 +4,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "baselines/surface_measures.h"
 #include "datasets/point_cloud_index.h"
 #include "datasets/triangle_bvh.h"
+#include "evaluation/geometry_truth.h"
 
-namespace terramesh::baselines {
+namespace terramesh::evaluation {
 
 void GeometryTruthConfig::validate() const {
   std::ostringstream problems;
@@ -27,14 +27,14 @@ void GeometryTruthConfig::validate() const {
 
 struct GeometryTruth::Impl {
   GeometryTruthConfig config;
-  datasets::PinholeCamera camera;
-  std::vector<datasets::DepthRay> rays;
+  PinholeCamera camera;
+  std::vector<DepthRay> rays;
   /// Completeness points: the truth ray ends, thinned to about config.samples.
   std::vector<Eigen::Vector3d> truth_points;
   // Mesh truth.
   std::optional<datasets::TriangleBvh> truth_bvh;
   // LiDAR truth.
-  std::optional<datasets::LidarTruth> lidar;
+  std::optional<LidarTruth> lidar;
   std::optional<datasets::PointCloudIndex> lidar_cloud;
 
   void finishRays() {
@@ -55,23 +55,23 @@ GeometryTruth::GeometryTruth(GeometryTruth&&) noexcept = default;
 GeometryTruth& GeometryTruth::operator=(GeometryTruth&&) noexcept = default;
 
 GeometryTruth GeometryTruth::fromMesh(const mesher::TriangleMesh& truth,
-                                      const std::vector<datasets::EvaluationView>& views,
+                                      const std::vector<EvaluationView>& views,
                                       const GeometryTruthConfig& config) {
   config.validate();
   auto impl = std::make_unique<Impl>();
   impl->config = config;
   impl->truth_bvh.emplace(truth);
-  impl->rays = datasets::renderTruthRays(*impl->truth_bvh, views, impl->camera, config.depth);
+  impl->rays = renderTruthRays(*impl->truth_bvh, views, impl->camera, config.depth);
   impl->finishRays();
   return GeometryTruth(std::move(impl));
 }
 
-GeometryTruth GeometryTruth::fromLidar(const std::filesystem::path& sequence, const datasets::LidarTruthOptions& options,
+GeometryTruth GeometryTruth::fromLidar(const std::filesystem::path& sequence, const LidarTruthOptions& options,
                                        const GeometryTruthConfig& config) {
   config.validate();
   auto impl = std::make_unique<Impl>();
   impl->config = config;
-  impl->lidar.emplace(datasets::readLidarTruth(sequence, options, impl->camera, config.depth));
+  impl->lidar.emplace(readLidarTruth(sequence, options, impl->camera, config.depth));
   impl->rays = impl->lidar->rays;
   impl->lidar_cloud.emplace(impl->lidar->returns_W);
   impl->finishRays();
@@ -92,21 +92,21 @@ GeometryScores GeometryTruth::score(const mesher::TriangleMesh& mesh) const {
   const mesher::TriangleMesh measured = flagged ? mesher::dropSteinerFaces(mesh) : mesh;
   scores.measured_faces = measured.faces.size();
   const datasets::TriangleBvh mesh_bvh(mesh);
-  scores.depth = datasets::compareDepths(mesh_bvh, mesh, impl_->rays, config.depth);
+  scores.depth = compareDepths(mesh_bvh, mesh, impl_->rays, config.depth);
   if (measured.faces.empty()) return scores;
   const datasets::TriangleBvh measured_bvh(measured);
-  const std::vector<Eigen::Vector3d> samples = datasets::sampleSurface(measured, config.samples, config.seed, false);
+  const std::vector<Eigen::Vector3d> samples = sampleSurface(measured, config.samples, config.seed, false);
   if (impl_->lidar) {
     std::vector<Eigen::Vector3d> covered;
     for (const Eigen::Vector3d& p : samples) {
       if (impl_->lidar->covers(p, config.depth.max_depth_m, &impl_->camera)) covered.push_back(p);
     }
-    scores.accuracy = datasets::distancesToPoints(covered, *impl_->lidar_cloud, config.match_radius_m);
+    scores.accuracy = distancesToPoints(covered, *impl_->lidar_cloud, config.match_radius_m);
   } else {
-    scores.accuracy = datasets::distancesToSurface(samples, *impl_->truth_bvh);
+    scores.accuracy = distancesToSurface(samples, *impl_->truth_bvh);
   }
-  scores.completeness = datasets::distancesToSurface(impl_->truth_points, measured_bvh);
+  scores.completeness = distancesToSurface(impl_->truth_points, measured_bvh);
   return scores;
 }
 
-}  // namespace terramesh::baselines
+}  // namespace terramesh::evaluation

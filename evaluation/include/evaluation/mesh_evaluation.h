@@ -10,7 +10,7 @@
 #include "datasets/triangle_bvh.h"
 #include "mesher/triangle_mesh.h"
 
-namespace terramesh::datasets {
+namespace terramesh::evaluation {
 
 /// A pinhole camera (pixels), for rendering depth images. Defaults: KITTI's P0.
 struct PinholeCamera {
@@ -66,7 +66,7 @@ struct DepthErrors {
 
 /// Ground-truth rays from rendering `truth` at each view (every stride-th pixel with a hit within
 /// max_depth_m).
-std::vector<DepthRay> renderTruthRays(const TriangleBvh& truth, const std::vector<EvaluationView>& views,
+std::vector<DepthRay> renderTruthRays(const datasets::TriangleBvh& truth, const std::vector<EvaluationView>& views,
                                       const PinholeCamera& camera, const DepthComparisonConfig& config);
 
 /// Ground-truth rays from an origin to measured points (e.g. LiDAR returns from the sensor),
@@ -76,7 +76,7 @@ std::vector<DepthRay> raysToPoints(const Eigen::Vector3d& origin_W, const std::v
 
 /// Casts every ground-truth ray into the reconstruction and compares depths. `is_steiner` flags
 /// the reconstruction's vertices (may be empty); faces touching one are counted in steiner_hits.
-DepthErrors compareDepths(const TriangleBvh& reconstruction, const mesher::TriangleMesh& reconstruction_mesh,
+DepthErrors compareDepths(const datasets::TriangleBvh& reconstruction, const mesher::TriangleMesh& reconstruction_mesh,
                           const std::vector<DepthRay>& truth, const DepthComparisonConfig& config);
 
 /// Distances from sample points to a surface or a point cloud, summarised.
@@ -97,11 +97,11 @@ std::vector<Eigen::Vector3d> sampleSurface(const mesher::TriangleMesh& mesh, std
                                            std::uint64_t seed, bool skip_steiner);
 
 /// Distance from each sample to the nearest point of the surface in `surface`.
-DistanceStats distancesToSurface(const std::vector<Eigen::Vector3d>& samples, const TriangleBvh& surface);
+DistanceStats distancesToSurface(const std::vector<Eigen::Vector3d>& samples, const datasets::TriangleBvh& surface);
 
 /// Distance from each sample to the nearest cloud point within `max_distance_m` (samples with
 /// none are unmatched and count as beyond every threshold).
-DistanceStats distancesToPoints(const std::vector<Eigen::Vector3d>& samples, const PointCloudIndex& cloud,
+DistanceStats distancesToPoints(const std::vector<Eigen::Vector3d>& samples, const datasets::PointCloudIndex& cloud,
                                 double max_distance_m);
 
-}  // namespace terramesh::datasets
+}  // namespace terramesh::evaluation

@@ -1,7 +1,5 @@
 #pragma once
 
-// Paths against the synthetic scene's ground truth (evaluation only: links terramesh::datasets).
-
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
@@ -11,7 +9,7 @@
 #include "datasets/labeled_mesh.h"
 #include "datasets/triangle_bvh.h"
 
-namespace terramesh::planning::demo {
+namespace terramesh::evaluation {
 
 /// The robot and the tolerances a path is judged with. Lengths in metres, angles in degrees.
 struct TruthCheckConfig {
@@ -100,4 +98,4 @@ TruthCheck checkAgainstTruth(const datasets::LabeledMesh& truth, const datasets:
                              const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W,
                              double metres_per_unit, const TruthCheckConfig& config);
 
-}  // namespace terramesh::planning::demo
+}  // namespace terramesh::evaluation

@@ -1,4 +1,4 @@
-#include "datasets/lidar_truth.h"
+#include "evaluation/lidar_truth.h"
 
 #include <cmath>
 #include <cstdio>
@@ -6,12 +6,12 @@
 #include "common/input_error.h"
 #include "datasets/kitti_odometry_reader.h"
 
-namespace terramesh::datasets {
+namespace terramesh::evaluation {
 
 LidarTruth readLidarTruth(const std::filesystem::path& sequence_directory, const LidarTruthOptions& options,
                           const PinholeCamera& camera, const DepthComparisonConfig& config) {
-  const std::vector<Eigen::Isometry3d> poses = readKittiPoses(options.poses_path);
-  const Eigen::Isometry3d cam0_from_velodyne = readKittiVelodyneToCam0(sequence_directory / "calib.txt");
+  const std::vector<Eigen::Isometry3d> poses = datasets::readKittiPoses(options.poses_path);
+  const Eigen::Isometry3d cam0_from_velodyne = datasets::readKittiVelodyneToCam0(sequence_directory / "calib.txt");
   LidarTruth truth;
   truth.max_elevation_deg = options.max_elevation_deg;
   truth.min_elevation_deg = options.min_elevation_deg;
@@ -28,11 +28,11 @@ LidarTruth readLidarTruth(const std::filesystem::path& sequence_directory, const
     const Eigen::Isometry3d world_from_velodyne = world_from_cam0 * cam0_from_velodyne;
     const Eigen::Isometry3d cam0_from_world = world_from_cam0.inverse();
     const Eigen::Vector3d origin_W = world_from_velodyne.translation();
-    const std::vector<VelodyneReturn> scan = readVelodyneScan(scan_path);
+    const std::vector<datasets::VelodyneReturn> scan = datasets::readVelodyneScan(scan_path);
     truth.returns_read += scan.size();
     truth.world_from_sensor.push_back(world_from_velodyne);
     truth.world_from_camera.push_back(world_from_cam0);
-    for (const VelodyneReturn& ret : scan) {
+    for (const datasets::VelodyneReturn& ret : scan) {
       const Eigen::Vector3d point_W = world_from_velodyne * ret.position_S.cast<double>();
       const Eigen::Vector3d offset = point_W - origin_W;
       const double depth = offset.norm();
@@ -64,4 +64,4 @@ bool LidarTruth::covers(const Eigen::Vector3d& p_W, double max_depth_m, const Pi
   return false;
 }
 
-}  // namespace terramesh::datasets
+}  // namespace terramesh::evaluation

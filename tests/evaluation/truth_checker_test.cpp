@@ -1,4 +1,4 @@
-// planner_demo's checkAgainstTruth and TruthChecker on analytic truth meshes: a ground plane, a wall, a low ceiling
+// evaluation's checkAgainstTruth and TruthChecker on analytic truth meshes: a ground plane, a wall, a low ceiling
 // and a step, each with a path that must pass and its twin that must fail.
 
 #include <gmock/gmock.h>
@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "ground_truth_check.h"
+#include "evaluation/truth_checker.h"
 
-namespace terramesh::planning::demo {
+namespace terramesh::evaluation {
 namespace {
 
 using datasets::SurfaceLabel;
@@ -257,4 +257,4 @@ TEST(GroundTruthCheck, CheckerRefusesATruthWithoutLabels) {
 }
 
 }  // namespace
-}  // namespace terramesh::planning::demo
+}  // namespace terramesh::evaluation
