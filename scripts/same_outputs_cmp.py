@@ -10,6 +10,9 @@ Every file must exist in both trees and be identical byte for byte, except what 
     ms, MiB, "time"), and the paths of the two trees (as given and absolute) are made the same;
   - HDF5 files (.h5) are compared by content (every group, dataset and attribute, with h5py), not
     by bytes: HDF5 stamps each object with the time it was written;
+  - `plan --random-pairs` runs OMPL with a time limit beside the face-graph optimum: its pairs.csv
+    loses the sampled planner's columns (status, length, cost) and its plan.txt the solved count;
+    the pairs and the graph optimum are compared;
   - a few files only the compare command's measurements fill (its figures, OMPL's log) are listed
     as not compared.
 Prints one line per differing or missing file and a summary; exit 0 when everything is the same.
@@ -31,19 +34,28 @@ NOT_COMPARED_SUFFIXES = {".png"}
 NOT_COMPARED_DIRS = {"compare"}
 
 
-def csv_without_timings(text):
+# What a time-limited OMPL search decides (plan --random-pairs): not reproducible between runs.
+SAMPLED_COLUMNS = {"pairs.csv": {"status", "length_m", "cost", "unknown_length_m"}}
+SAMPLED_LINES = {"plan.txt": re.compile(r"^solved ")}
+
+
+def csv_without_timings(text, name=""):
     rows = list(csv.reader(io.StringIO(text)))
     if not rows:
         return rows
-    keep = [i for i, name in enumerate(rows[0]) if not TIMING_COLUMN.search(name)]
+    sampled = SAMPLED_COLUMNS.get(name, set())
+    keep = [i for i, column in enumerate(rows[0]) if not TIMING_COLUMN.search(column) and column not in sampled]
     return [[row[i] for i in keep if i < len(row)] for row in rows]
 
 
-def text_without_timings(text, roots):
+def text_without_timings(text, roots, name=""):
     for root in roots:
         text = text.replace(root, "ROOT")
     lines = []
+    sampled = SAMPLED_LINES.get(name)
     for line in text.splitlines():
+        if sampled and sampled.match(line):
+            continue
         lines.append(NUMBER.sub("N", line) if TIMING_LINE.search(line) else line)
     return lines
 
@@ -74,9 +86,10 @@ def same(base_file, head_file, base_roots, head_roots):
     except UnicodeDecodeError:
         return False
     if suffix == ".csv":
-        return csv_without_timings(ta) == csv_without_timings(tb)
+        return csv_without_timings(ta, base_file.name) == csv_without_timings(tb, base_file.name)
     if suffix in {".txt", ".md", ".log"}:
-        return text_without_timings(ta, base_roots) == text_without_timings(tb, head_roots)
+        return (text_without_timings(ta, base_roots, base_file.name) ==
+                text_without_timings(tb, head_roots, base_file.name))
     return False
 
 
