@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "export_writers.h"
@@ -280,6 +283,22 @@ TEST_F(MeshMapH5Test, RewritesAtomicallyAndCanBeTurnedOff) {
   const ExportReport report = writeMapDirectory(dir_.path(), map_, profile_, config_);
   EXPECT_FALSE(std::filesystem::exists(dir_ / "traversability.h5"));
   EXPECT_EQ(std::find(report.files.begin(), report.files.end(), "traversability.h5"), report.files.end());
+}
+
+TEST_F(MeshMapH5Test, TheSameMapGivesTheSameBytes) {
+  const auto bytes = [](const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  internal::writeMeshMapH5(dir_ / "a.h5", map_, profile_);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // HDF5 stamps times in seconds
+  internal::writeMeshMapH5(dir_ / "b.h5", map_, profile_);
+  const std::string a = bytes(dir_ / "a.h5");
+  ASSERT_GT(a.size(), 1000u);
+  EXPECT_TRUE(a == bytes(dir_ / "b.h5")) << "no object may carry its write time";
+  map_.layers[0].cost = 0.6f;
+  internal::writeMeshMapH5(dir_ / "c.h5", map_, profile_);
+  EXPECT_FALSE(a == bytes(dir_ / "c.h5"));
 }
 
 TEST_F(MeshMapH5Test, AFailedWriteNamesTheFileAndLeavesTheOldOne) {

@@ -48,12 +48,26 @@ class QuietErrors {
   void* data_ = nullptr;
 };
 
+/// A creation property list that stamps no time on the objects it creates: the same map gives
+/// the same bytes (HDF5 records each object's write time by default).
+hid_t untimed(hid_t list_class) {
+  const hid_t list = H5Pcreate(list_class);
+  if (list >= 0 && H5Pset_obj_track_times(list, 0) < 0) {
+    H5Pclose(list);
+    return -1;
+  }
+  return list;
+}
+
 class MeshFileWriter {
  public:
-  explicit MeshFileWriter(std::string file) : file_(std::move(file)) {}
+  explicit MeshFileWriter(std::string file)
+      : file_(std::move(file)),
+        group_list_(untimed(H5P_GROUP_CREATE), H5Pclose, failed("group creation list")),
+        dataset_list_(untimed(H5P_DATASET_CREATE), H5Pclose, failed("dataset creation list")) {}
 
   Id group(hid_t parent, const char* name) const {
-    return Id(H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, failed("group " + std::string(name)));
+    return Id(H5Gcreate2(parent, name, H5P_DEFAULT, group_list_, H5P_DEFAULT), H5Gclose, failed("group " + std::string(name)));
   }
 
   /// A scalar variable-length UTF-8 string attribute: what HighFive's setAttribute<std::string>
@@ -72,7 +86,7 @@ class MeshFileWriter {
   /// A scalar int dataset.
   void scalarInt(hid_t parent, const char* name, int value) const {
     const Id space(H5Screate(H5S_SCALAR), H5Sclose, failed("dataspace of " + std::string(name)));
-    const Id set(H5Dcreate2(parent, name, H5T_NATIVE_INT, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+    const Id set(H5Dcreate2(parent, name, H5T_NATIVE_INT, space, H5P_DEFAULT, dataset_list_, H5P_DEFAULT), H5Dclose,
                  failed("dataset " + std::string(name)));
     if (H5Dwrite(set, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0) {
       throw std::runtime_error(failed("dataset " + std::string(name)));
@@ -84,7 +98,7 @@ class MeshFileWriter {
   void dataset(hid_t parent, const std::string& name, hid_t type, const std::vector<T>& values, std::size_t width) const {
     const hsize_t dims[2] = {values.size() / width, width};
     const Id space(H5Screate_simple(2, dims, nullptr), H5Sclose, failed("dataspace of " + name));
-    const Id set(H5Dcreate2(parent, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+    const Id set(H5Dcreate2(parent, name.c_str(), type, space, H5P_DEFAULT, dataset_list_, H5P_DEFAULT), H5Dclose,
                  failed("dataset " + name));
     if (!values.empty() && H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
       throw std::runtime_error(failed("dataset " + name));
@@ -95,6 +109,8 @@ class MeshFileWriter {
 
  private:
   std::string file_;
+  Id group_list_;
+  Id dataset_list_;
 };
 
 /// lvr2's face normal, (v1 - v2) x (v1 - v3) normalised, (0, 0, 1) for a degenerate face; the
@@ -124,7 +140,8 @@ std::string buildImage(const std::string& file, const LayeredMesh& map, const Ro
   const MeshFileWriter out(file);
   const Id access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, out.failed("file access list"));
   if (H5Pset_fapl_core(access, 1 << 20, 0) < 0) throw std::runtime_error(out.failed("(core driver)"));
-  const Id h5(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose, out.failed("file"));
+  const Id creation(untimed(H5P_FILE_CREATE), H5Pclose, out.failed("file creation list"));  // the root group
+  const Id h5(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, creation, access), H5Fclose, out.failed("file"));
   // lvr2's hdf5util::open writes a scalar int `version` = 1 into every file it creates.
   out.scalarInt(h5, "version", 1);
   const Id mesh(out.group(h5, kMeshMapPart));
