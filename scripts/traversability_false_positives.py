@@ -2,6 +2,7 @@
 """Why a traversability map calls ground free that the ground truth says is not traversable.
 
 Usage: traversability_false_positives.py MAP_DIR GROUND_TRUTH.ply [TRAVERSE_EVAL_REPORT.txt]
+           [--swept TRAJECTORY.txt LATERAL_M [CAMERA_HEIGHT_M]]
 
 MAP_DIR is a `terramesh mesh --robot` (or `traverse`) output (traversability.ply, robot.yaml),
 GROUND_TRUTH.ply the labelled mesh of `terramesh generate`, both in metres, same frame. The
@@ -23,7 +24,11 @@ traversable) gets:
   - whether a wall/obstacle/ceiling face of the truth lies within the footprint circumradius
     (horizontally, below the robot's height above the piece) and whether an unknown map face does;
   - the map's own contact (worst heading) and step (best heading) on that face.
-Prints area in m^2 and fractions of the false-positive area per cause. python3 + numpy + scipy.
+Prints area in m^2 and fractions of the false-positive area per cause. With --swept (the
+generator's trajectory.txt, the robot's half-width, the camera height, default 1.65 m), also the
+robot's swept strip: the map within LATERAL_M of the camera path, CAMERA_HEIGHT_M +- 0.5 m below
+it (traverse-eval --road-under-path's strip), how much of it the truth calls traversable for the
+robot, and per map class the truth-traversable share. python3 + numpy + scipy.
 """
 import math
 import os
@@ -146,13 +151,52 @@ def normals(tris):
     return n / np.where(length > 0, length, 1)[:, None]
 
 
+def swept_strip(trajectory_path, lateral_m, camera_height_m, centre, up):
+    """Pieces within lateral_m (horizontally) of the path camera_height_m below the cameras, and
+    within 0.5 m of that height."""
+    cameras = np.loadtxt(trajectory_path, ndmin=2).reshape(-1, 3, 4)[:, :, 3]
+    ground = cameras - camera_height_m * up
+    inside = np.zeros(len(centre), bool)
+    for a, b in zip(ground[:-1], ground[1:]):
+        ab = b - a
+        t = np.clip(((centre - a) @ ab) / max(ab @ ab, 1e-12), 0, 1)
+        rel = centre - (a + t[:, None] * ab)
+        h = rel @ up
+        inside |= (np.linalg.norm(rel - np.outer(h, up), axis=1) <= lateral_m) & (np.abs(h) <= 0.5)
+    return inside
+
+
+def print_swept(strip, area, classes, truth_ok, piece_reason):
+    total = area[strip].sum()
+    if not total > 0:
+        print("swept strip: no scored map surface")
+        return
+    print(f"swept strip: {total:.1f} m2 scored, truth traversable {area[strip & truth_ok].sum() / total:.3f}")
+    for c, name in enumerate(["free", "lethal", "unknown", "uncertain"]):
+        m = strip & (classes == c)
+        share = area[m].sum() / total
+        ok = area[m & truth_ok].sum() / area[m].sum() if area[m].sum() > 0 else float("nan")
+        print(f"  map {name:9s} {share:.3f} of the strip; truth traversable there {ok:.3f}")
+    for r in sorted(set(piece_reason[strip])):
+        print(f"  truth {r or 'unjudged'}: {area[strip & (piece_reason == r)].sum() / total:.3f}")
+
+
 def main():
-    if len(sys.argv) not in (3, 4):
+    args = sys.argv[1:]
+    swept = None
+    if "--swept" in args:
+        i = args.index("--swept")
+        values = args[i + 1:]
+        if len(values) not in (2, 3):
+            sys.exit(__doc__)
+        swept = (values[0], float(values[1]), float(values[2]) if len(values) == 3 else 1.65)
+        args = args[:i]
+    if len(args) not in (2, 3):
         sys.exit(__doc__)
-    map_dir, truth_path = sys.argv[1], sys.argv[2]
+    map_dir, truth_path = args[0], args[1]
     report = {}
-    if len(sys.argv) == 4:
-        for line in open(sys.argv[3]):
+    if len(args) == 3:
+        for line in open(args[2]):
             words = line.split()
             if len(words) >= 2:
                 report[words[0]] = words[1:]
@@ -218,22 +262,24 @@ def main():
     uncertain = mprops["uncertain"][piece_face] != 0 if "uncertain" in mprops else np.zeros_like(unknown)
     free = (~unknown) & (~uncertain) & (mprops["lethal"][piece_face] == 0)
 
-    # Only free pieces are judged (precision needs nothing else).
+    # Only free pieces are judged (precision needs nothing else), and with --swept the strip.
+    strip = swept_strip(*swept, centre, up) if swept else np.zeros(len(centre), bool)
+    judged = free | strip
     best_d = np.full(len(centre), np.inf)
     best_q = np.zeros(len(centre), int)
-    _, cand = q_tree.query(centre[free], k=8)
+    _, cand = q_tree.query(centre[judged], k=8)
     for k in range(cand.shape[1]):
         qt = q_tris[cand[:, k]]
-        d = np.linalg.norm(closest_on_triangles(centre[free], qt[:, 0], qt[:, 1], qt[:, 2]) - centre[free], axis=1)
-        better = d < best_d[free]
-        fi = np.flatnonzero(free)[better]
+        d = np.linalg.norm(closest_on_triangles(centre[judged], qt[:, 0], qt[:, 1], qt[:, 2]) - centre[judged], axis=1)
+        better = d < best_d[judged]
+        fi = np.flatnonzero(judged)[better]
         best_d[fi], best_q[fi] = d[better], cand[better, k]
     near_face = q_owner[best_q]
     scored = best_d <= 0.5
 
     progress("nearest truth faces found")
     # Judge the truth faces the scored known pieces take their answer from.
-    needed = np.unique(near_face[scored & free])
+    needed = np.unique(near_face[scored & judged])
     reason = {}
     t_normals = normals(truth_tris)
     t_normals *= np.where(t_normals @ up < 0, -1.0, 1.0)[:, None]
@@ -294,6 +340,9 @@ def main():
     tp = area[known & free & truth_ok].sum()
     fp_mask = known & free & ~truth_ok
     fp = area[fp_mask].sum()
+    if swept:
+        classes = np.where(unknown, 2, np.where(uncertain, 3, np.where(mprops["lethal"][piece_face] != 0, 1, 0)))
+        print_swept(strip & scored, area, classes, truth_ok, piece_reason)
     print(f"map {map_dir} ({'rectangle %.2f x %.2f m' % (length, width) if rectangle else 'disc r %.2f m' % radius}, "
           f"step {step} m, slope {max_slope} deg, height {height} m)")
     print(f"free map area {area[free].sum():.1f} m2: within 0.5 m of the truth (scored) {area[free & scored].sum():.1f}, "
