@@ -1,6 +1,7 @@
 #include "baselines/octomap_baseline.h"
 
 #include "common/atomic_file.h"
+#include "common/plan_frame.h"
 
 #include <Eigen/Geometry>
 #include <chrono>
@@ -28,7 +29,7 @@ struct OctomapBaseline::Impl {
   explicit Impl(const OctomapConfig& c)
       : config(c),
         tree(c.resolution_m),
-        R_G_W(Eigen::Quaterniond::FromTwoVectors(c.up_W.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix()) {}
+        R_G_W(geometry::rotationUpToZ(c.up_W)) {}
   octomap::point3d toG(const Eigen::Vector3d& p_W) const {
     const Eigen::Vector3d p = R_G_W * p_W * config.metres_per_unit;
     return {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};

@@ -16,11 +16,12 @@
 #include "baselines/octomap_baseline.h"
 #include "common/grid_key.h"
 #include "common/input_error.h"
+#include "common/plan_frame.h"
 
 namespace terramesh::baselines {
 
 Eigen::Matrix3d OctomapFrame::rotation_G_W() const {
-  return Eigen::Quaterniond::FromTwoVectors(up_W.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return geometry::rotationUpToZ(up_W);
 }
 
 void OctomapFrame::validate() const {

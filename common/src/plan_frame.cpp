@@ -54,4 +54,8 @@ PlanFrame planFrame(const Eigen::Vector3d& up, const PlanFrameRule& rule) {
   return frame;
 }
 
+Eigen::Matrix3d rotationUpToZ(const Eigen::Vector3d& up) {
+  return Eigen::Quaterniond::FromTwoVectors(up.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
 }  // namespace terramesh::geometry

@@ -116,5 +116,18 @@ TEST(PlanFrameTest, InvalidRulesThrow) {
   }
 }
 
+TEST(RotationUpToZTest, TurnsUpOntoZByTheSmallestRotation) {
+  EXPECT_TRUE(rotationUpToZ(Eigen::Vector3d::UnitZ()).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+  for (const Eigen::Vector3d& up : {Eigen::Vector3d(0.1, -0.2, 0.97), Eigen::Vector3d(1, 0, 0.01), Eigen::Vector3d(0, 3, 4)}) {
+    const Eigen::Matrix3d R = rotationUpToZ(up);
+    EXPECT_TRUE((R * up.normalized()).isApprox(Eigen::Vector3d::UnitZ(), 1e-12)) << up.transpose();
+    EXPECT_TRUE((R.transpose() * R).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
+    // The axis of the turn (up x z) stays where it is: no extra spin about up.
+    const Eigen::Vector3d axis = up.normalized().cross(Eigen::Vector3d::UnitZ()).normalized();
+    EXPECT_TRUE((R * axis).isApprox(axis, 1e-12)) << up.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace terramesh::geometry

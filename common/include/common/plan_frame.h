@@ -55,4 +55,10 @@ struct PlanFrame {
 /// @throw std::invalid_argument if `rule` is invalid.
 PlanFrame planFrame(const Eigen::Vector3d& up, const PlanFrameRule& rule = {});
 
+/// The rotation that turns `up` onto +z by the smallest turn (Eigen's Quaternion::FromTwoVectors):
+/// the gravity-aligned frame of the voxel baselines, whose x and y follow the map's as closely as
+/// a rotation can. Rows are the frame's axes in map coordinates. O(1), thread-safe.
+/// @pre up is finite and non-zero (normalised here).
+Eigen::Matrix3d rotationUpToZ(const Eigen::Vector3d& up);
+
 }  // namespace terramesh::geometry
