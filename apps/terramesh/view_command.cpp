@@ -36,12 +36,8 @@ fs::path findBundle(const std::optional<std::string>& bundle) {
     if (!fs::is_regular_file(dir / "index.html")) throw InputError(dir.string(), "index.html", "missing (expected a viewer bundle: build/viewer/dist)");
     return dir;
   }
-  std::error_code error;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
-  if (!error) {
-    const fs::path installed = exe.parent_path().parent_path() / TERRAMESH_VIEWER_INSTALL_SUBDIR;
-    if (fs::is_regular_file(installed / "index.html")) return installed;
-  }
+  const fs::path installed = shippedFolder(TERRAMESH_VIEWER_INSTALL_SUBDIR, "index.html");
+  if (!installed.empty()) return installed;
   const fs::path built = TERRAMESH_VIEWER_BUILD_DIR;
   if (!built.empty() && fs::is_regular_file(built / "index.html")) return built;
   return {};
