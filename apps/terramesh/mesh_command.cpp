@@ -155,8 +155,10 @@ int runMesh(const std::vector<std::string>& args) {
   if (checkpoint_every > 0 && !resumed) run.stream_fingerprint = streamFingerprint(stream);
   run.trajectory_evidence = evidence.settings();
   mesher::Mesher mesher = resumed ? std::move(resumed->mesher) : mesher::Mesher(config);
-  if (traversability && resumed) traversability->resume(mesher, run.keyframes);
+  if (traversability && evidence.enabled()) traversability->setDrivePoses(evidence.drivePoses());
+  // The poses first: the layers read where the robot faced on its driven samples.
   if (resumed) evidence.replay(stream, run.next_event);
+  if (traversability && resumed) traversability->resume(mesher, run.keyframes);
   if (!quiet && !evidence.summary().empty()) std::cerr << "terramesh: " << evidence.summary() << '\n';
   if (!quiet && evidence.warning()) std::cerr << "terramesh: warning: " << *evidence.warning() << '\n';
   const bool scale_known = stream.scale_known || mesher_options.metres_per_unit.has_value();

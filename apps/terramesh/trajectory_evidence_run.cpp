@@ -151,4 +151,10 @@ std::string TrajectoryEvidenceRun::settings() const {
   return text.str();
 }
 
+traversability::DrivePoseLookup TrajectoryEvidenceRun::drivePoses() const {
+  if (!evidence_) return {};
+  const traversability::TrajectoryEvidence* evidence = &*evidence_;
+  return [evidence](mesher::PointId id) { return evidence->baseOf(id); };
+}
+
 }  // namespace terramesh::cli

@@ -42,6 +42,9 @@ class TrajectoryEvidenceRun {
   void replay(const datasets::SlamStream& stream, std::size_t events);
 
   bool enabled() const { return evidence_.has_value(); }
+  /// Where the robot stood on each driven-ground sample (TrajectoryEvidence::baseOf); empty when
+  /// off. It reads this run, which must outlive it.
+  traversability::DrivePoseLookup drivePoses() const;
   /// The sensor's height above the ground contact plane the samples use, metres (0 when off).
   double sensorHeightM() const { return sensor_height_m_; }
   /// Where that height came from: "--sensor-height-m", "the robot profile" or "the data".

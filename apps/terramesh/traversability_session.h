@@ -74,6 +74,9 @@ class TraversabilitySession {
   /// Final update and export; appends a few summary lines.
   void finish(const mesher::Mesher& mesher, std::ostream& summary);
 
+  /// Where the robot stood on the driven-ground samples (TraversabilityMap::setDrivePoses); set
+  /// before the first event.
+  void setDrivePoses(traversability::DrivePoseLookup lookup) { map_->setDrivePoses(std::move(lookup)); }
   /// Where "up" came from, for the summary.
   const std::string& upSource() const { return up_source_; }
   const traversability::RobotProfile& profile() const { return profile_; }

@@ -316,6 +316,93 @@ TEST(EvidenceTest, OnDrivenGroundOnlyTheSupportedPartsOfALongFaceAreObstacles) {
   }
 }
 
+TEST(EvidenceTest, OnDrivenGroundSlantedFacesCountBeyondTheStripTheBodySwept) {
+  // A driven strip (|y| <= 0.3, the drive along y = 0) and two measured slanted faces: one
+  // floating over the strip in the body's volume (the robot drove through it: contradicted), one
+  // rising at 45 degrees from y = 0.45, beyond the strip (its part inside the body lies at y
+  // 0.63-0.95). Without the drive's poses the drive contradicts both wholly; with them, the faces
+  // of the strip whose footprint reaches beyond its side towards the second face are not free,
+  // those on the far half still are. Incrementally the same as a full computation, also when
+  // driven ground under the floating face goes.
+  const RobotProfile profile = smallWheeled();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  mesher::TriangleMesh slanted;
+  slanted.vertices = {{-3, -0.1, 0.3}, {3, -0.1, 0.3}, {3, 0.1, 0.45}, {-3, 0.1, 0.45},
+                      {-3, 0.45, 0.0}, {3, 0.45, 0.0}, {3, 1.45, 1.0}, {-3, 1.45, 1.0}};
+  slanted.faces = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+  test::appendMesh(mesh, slanted);
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    bool on_strip = true;
+    for (const auto& p : faces[f].positions_W) on_strip = on_strip && std::abs(p.y()) <= 0.3 + 1e-9;
+    faces[f].driven_vertices = on_strip ? 3 : 0;
+  }
+  // The robot's base where each driven sample lies: on the centre line beside it, facing +x.
+  const DrivePoseLookup poses = [&](mesher::PointId id) -> std::optional<Eigen::Isometry3d> {
+    if (id.value >= mesh.vertices.size()) return std::nullopt;
+    Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+    base.translation() = Eigen::Vector3d(mesh.vertices[id.value].x(), 0, 0);
+    return base;
+  };
+  const auto classes = [&](const std::vector<mesher::SurfaceFace>& input, bool with_poses) {
+    TraversabilityMap map(profile, MapFrame{});
+    if (with_poses) map.setDrivePoses(poses);
+    map.reset(input);
+    std::map<mesher::FaceKey, FaceLayers> by_key;
+    const LayeredMesh snapshot = map.snapshot();
+    for (std::size_t f = 0; f < snapshot.layers.size(); ++f) by_key.emplace(snapshot.face_keys[f], snapshot.layers[f]);
+    return by_key;
+  };
+  for (const bool with_poses : {false, true}) {
+    const std::map<mesher::FaceKey, FaceLayers> layers = classes(faces, with_poses);
+    std::size_t far_half = 0, near_side = 0;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      if (faces[f].driven_vertices != 3 || std::abs(c.x()) > 2.0) continue;
+      const FaceClass got = layers.at(faces[f].key).face_class;
+      if (c.y() < 0) {
+        ++far_half;
+        EXPECT_EQ(got, FaceClass::kFree) << "poses " << with_poses << " at (" << c.x() << ", " << c.y() << ")";
+      } else if (c.y() > 0.2) {
+        ++near_side;
+        EXPECT_EQ(got == FaceClass::kFree, !with_poses) << "poses " << with_poses << " at (" << c.x() << ", " << c.y() << ")";
+      }
+    }
+    EXPECT_GT(far_half, 200u);
+    EXPECT_GT(near_side, 50u);
+  }
+  // The strip ends at x = 2.5 (its driven ground beyond goes): the faces whose footprint reaches
+  // past the end meet the floating face there.
+  mesher::SurfaceDelta strip_end{0, 0, true, {}, {}, {}};
+  std::vector<mesher::SurfaceFace> rest;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (f < floor_faces && faces[f].driven_vertices == 3 && c.x() > 2.5) {
+      strip_end.removed.push_back(faces[f].key);
+    } else {
+      rest.push_back(faces[f]);
+    }
+  }
+  ASSERT_EQ(strip_end.removed.size(), 5u * 6u * 2u);
+  TraversabilityMap map(profile, MapFrame{});
+  map.setDrivePoses(poses);
+  map.reset(faces);
+  map.apply(strip_end, {});
+  const std::map<mesher::FaceKey, FaceLayers> full = classes(rest, true);
+  const LayeredMesh snapshot = map.snapshot();
+  ASSERT_EQ(snapshot.layers.size(), full.size());
+  std::size_t changed = 0;
+  const std::map<mesher::FaceKey, FaceLayers> before = classes(faces, true);
+  for (std::size_t f = 0; f < snapshot.layers.size(); ++f) {
+    const FaceLayers& want = full.at(snapshot.face_keys[f]);
+    EXPECT_EQ(snapshot.layers[f].face_class, want.face_class) << "face " << f;
+    EXPECT_EQ(snapshot.layers[f].step_m, want.step_m) << "face " << f;
+    changed += before.at(snapshot.face_keys[f]).face_class != want.face_class ? 1 : 0;
+  }
+  EXPECT_GT(changed, 0u) << "the strip's end changes some class (else the incremental check tests nothing)";
+}
+
 TEST(EvidenceTest, AnUnobservedWallIsUncertainNotLethal) {
   // A 2 m wall over a floor: measured, it is lethal and so is the floor beside it; with no ray
   // through the space in front of its faces it is only a possible wall: uncertain, both.

@@ -187,6 +187,27 @@ TEST(DrivenSamplesTest, KeyframesObserveThePreviousPatchAndRemovalReturnsTheSamp
   EXPECT_EQ(evidence.remove(mesher::KeyframeId{2}).size(), 4 * n);
 }
 
+TEST(DrivenSamplesTest, EachSampleKnowsTheBaseItWasPutDownAt) {
+  TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
+  const std::size_t n = evidence.samplesPerKeyframe();
+  evidence.augment(cameraAt(1, {0, 0, 1}));
+  const mesher::Keyframe second = evidence.augment(cameraAt(2, {2, 0, 1}));
+  // Its own patch at x = 2 and stations 1-3 at x = 0.5, 1 and 1.5: the base 1 m under the camera.
+  for (std::size_t station = 0; station <= 3; ++station) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::optional<Eigen::Isometry3d> base = evidence.baseOf(second.observations[station * n + i].point);
+      ASSERT_TRUE(base.has_value());
+      const double x = station == 0 ? 2.0 : 0.5 * static_cast<double>(station);
+      EXPECT_LT((base->translation() - Eigen::Vector3d(x, 0, 0)).norm(), 1e-9) << "station " << station;
+      EXPECT_LT((base->linear().col(0) - Eigen::Vector3d::UnitX()).norm(), 1e-9);
+    }
+  }
+  EXPECT_FALSE(evidence.baseOf(mesher::PointId{7}).has_value()) << "a SLAM point";
+  const mesher::PointId kept = second.observations.front().point;
+  evidence.remove(mesher::KeyframeId{2});
+  EXPECT_FALSE(evidence.baseOf(kept).has_value()) << "a removed keyframe's sample";
+}
+
 TEST(DrivenSamplesTest, BodyViewsSeeTheKeyframesSamplesFromInsideTheBodyAtThePreviousKeyframe) {
   RobotProfile robot = discRobot(0.3);
   robot.min_clearance_m = 0.5;  // the body: 0.5 m tall; the sensor 1 m up

@@ -15,12 +15,13 @@ struct Projection {
   Eigen::Vector2d lo, hi;
 };
 
-/// A face added, removed or re-judged by its evidence: its projection, bounds and whether
-/// heightAt can sample it.
+/// A face added, removed or re-judged by its evidence: its projection, bounds, whether heightAt
+/// can sample it and whether it is driven ground.
 struct Change {
   Projection projection;
   FaceBounds bounds;
   bool sampleable = false;
+  bool driven = false;
 };
 
 inline Projection projectionOf(const StoredFace& f) {

@@ -120,30 +120,40 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
   for (const Eigen::Vector2d& o : offsets_) {
     offset_terms_.push_back({o.x() * o.x(), o.x() * o.y(), o.x(), o.y() * o.y(), o.y()});
   }
-  const double eps = 1e-9 * radius_m_;
   if (profile.footprint == FootprintShape::kDisc) {
     std::vector<int> all(offsets_.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
     heading_samples_.push_back(all);
     return;
   }
-  for (int k = 0; k < profile.contact_headings; ++k) {
-    // Over half a turn: the rectangle turned by 180 degrees covers the same samples.
-    const double theta = M_PI * k / profile.contact_headings;
-    const double c = std::cos(theta), s = std::sin(theta);
-    heading_axes_.emplace_back(Eigen::Vector2d(c, s), Eigen::Vector2d(-s, c));
-    std::vector<int> inside;
-    for (std::size_t i = 0; i < offsets_.size(); ++i) {
-      const Eigen::Vector2d& o = offsets_[i];
-      const double along = c * o.x() + s * o.y();
-      const double across = -s * o.x() + c * o.y();
-      if (std::abs(along) <= 0.5 * profile.footprint_length_m + eps &&
-          std::abs(across) <= 0.5 * profile.footprint_width_m + eps) {
-        inside.push_back(static_cast<int>(i));
-      }
+  // Over half a turn: the rectangle turned by 180 degrees covers the same samples.
+  for (int k = 0; k < profile.contact_headings; ++k) addHeading(M_PI * k / profile.contact_headings);
+  fixed_headings_ = heading_samples_.size();
+}
+
+void LayerComputer::addHeading(double theta) const {
+  const double eps = 1e-9 * radius_m_;
+  const double c = std::cos(theta), s = std::sin(theta);
+  heading_axes_.emplace_back(Eigen::Vector2d(c, s), Eigen::Vector2d(-s, c));
+  std::vector<int> inside;
+  for (std::size_t i = 0; i < offsets_.size(); ++i) {
+    const Eigen::Vector2d& o = offsets_[i];
+    const double along = c * o.x() + s * o.y();
+    const double across = -s * o.x() + c * o.y();
+    if (std::abs(along) <= 0.5 * profile_.footprint_length_m + eps &&
+        std::abs(across) <= 0.5 * profile_.footprint_width_m + eps) {
+      inside.push_back(static_cast<int>(i));
     }
-    heading_samples_.push_back(inside);
   }
+  heading_samples_.push_back(std::move(inside));
+}
+
+void LayerComputer::setDriveHeading(const StoredFace& f) const {
+  heading_samples_.resize(fixed_headings_);
+  if (profile_.footprint != FootprintShape::kRectangle) return;
+  heading_axes_.resize(fixed_headings_);
+  if (f.layers.evidence != Evidence::kDriven || !(f.drive_axis.squaredNorm() > 0)) return;
+  addHeading(std::atan2(f.drive_axis.y(), f.drive_axis.x()));
 }
 
 void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c, bool driven_only) const {
@@ -393,19 +403,27 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
     if (t != s && mayObstruct(g)) {
       Obstacle o;
       const SampleGeometry& tg = store.geometry(t);
-      // Under driven ground the robot's body swept the volume above: a non-ground face anchored
-      // on driven ground, or slanted through that volume (a bridge the mesh drew from the road to
-      // something higher), is contradicted by the drive. Near-vertical faces still count there: an
-      // obstacle placed later (a parked car) stands on the road with vertical sides, where its
-      // points support them (collectSupportedParts). Elsewhere a face anchored on driven ground is
-      // only a possible obstacle.
-      const bool drive_contradicts = driven && (tg.touches_driven || tg.normal_z > kMaxBridgeNormalZ);
-      if (driven && !drive_contradicts && !tg.interpolated) {
+      // Under driven ground the robot's body swept the volume above. A non-ground face anchored on
+      // driven ground (a bridge the mesh drew from the road to something higher; that thing's own
+      // faces show it) is contradicted by the drive. A face slanted through the volume is
+      // contradicted where the body swept it: inside the strip along the drive's centre line,
+      // over driven ground (addUnsweptParts); a footprint centred off that line reaches beyond
+      // the strip, where nobody drove. Near-vertical faces still count: an obstacle placed later
+      // (a parked car) stands on the road with vertical sides, where its points support them
+      // (collectSupportedParts). Elsewhere a face anchored on driven ground is only a possible
+      // obstacle.
+      const bool anchored = driven && tg.touches_driven;
+      const bool slanted = driven && !anchored && tg.normal_z > kMaxBridgeNormalZ;
+      if (driven && !anchored && !slanted && !tg.interpolated) {
         collectSupportedParts(tg, c, ref_a, ref_b);
-      } else if (!drive_contradicts && clipToBody(tg, c, ref_a, ref_b, o)) {
+      } else if (!anchored && clipToBody(tg, c, ref_a, ref_b, o)) {
         o.possible = tg.interpolated || tg.touches_driven;
         o.extension_m = o.possible ? 0.0 : obstacleExtensionM(tg);
-        obstacles_.push_back(o);
+        if (slanted) {
+          addUnsweptParts(store, store.face(s), o, z_lo, z_hi, obstacle_reach);
+        } else {
+          obstacles_.push_back(o);
+        }
       }
     }
     if (g.normal_z <= kMinGroundNormalZ) return;
@@ -415,6 +433,24 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
   // Over driven ground the robot's body swept the volume: an unconfirmed point there is
   // contradicted by the drive (a confirmed one, inserted later, wins: later obstacles).
   if (!driven) collectUnconfirmed(store.face(s), ref_a, ref_b);
+}
+
+bool LayerComputer::overDrivenGround(const SurfaceStore& store, const Eigen::Vector2d* corners, int n,
+                                     const Eigen::Vector3d& c, double z_lo, double z_hi) const {
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d p = c.head<2>() + corners[i];
+    bool found = false;
+    store.forEachAt(p.x(), p.y(), [&](Slot u) {
+      if (found) return;
+      const FaceBounds& b = store.bounds(u);
+      if (!b.alive || b.max_z < z_lo || b.min_z > z_hi) return;
+      const SampleGeometry& g = store.geometry(u);
+      if (!g.sampleable || !g.driven) return;
+      found = g.heightAt(p.x(), p.y()).has_value();
+    });
+    if (!found) return false;
+  }
+  return true;
 }
 
 void LayerComputer::computeClearance(SurfaceStore& store, Slot s, bool driven) const {
@@ -465,6 +501,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
 
   const std::size_t count = offsets_.size();
   const bool driven = f.layers.evidence == Evidence::kDriven;
+  setDriveHeading(f);
   collectNearby(store, s, reference_plane, driven);
   std::array<Eigen::Vector2d, kObstaclePoints> points;
   const std::vector<double>& tops = obstacleTops(f, reference_plane.steep, points);

@@ -124,6 +124,15 @@ class LayerComputer {
              t.max_z < c.z() + kMinClearanceGapM || t.min_z - c.z() > clearance_search_m_);
   }
 
+  /// Whether driven ground t (sampleable, all vertices driven) can decide, for a driven face with
+  /// ground window `w`, which obstacles in its footprint the drive contradicts (overDrivenGround):
+  /// within its obstacle reach and its height window. `distance_m` as for mayAffect.
+  bool readsDrivenGround(const StoredFace& face, const GroundWindow& w, const FaceBounds& t, double distance_m) const {
+    // (addUnsweptParts reads the driven ground at most a box of half-side obstacle_reach_m away.)
+    return face.layers.evidence == Evidence::kDriven && !(t.max_z < w.z_lo || t.min_z > w.z_hi) &&
+           distance_m <= std::sqrt(2.0) * w.obstacle_reach_m * (1 + 1e-9) + 1e-6;
+  }
+
   /// Whether a face can be an obstacle inside a footprint (computeLocal's filter before its height
   /// window): not ground (steeper than max_slope, vertical or facing down). Measured faces are
   /// obstacles; interpolated ones (closing geometry, unobserved spans) only possible obstacles.
@@ -182,13 +191,22 @@ class LayerComputer {
   /// body (between max_step_m and min_clearance_m above the reference plane), and the height of
   /// its top above the plane.
   struct Obstacle {
-    std::array<Eigen::Vector2d, 5> p;  ///< convex polygon (a triangle clipped by two planes)
+    /// Convex polygon: a triangle clipped by two planes, and over driven ground by the two sides
+    /// of the swept strip.
+    std::array<Eigen::Vector2d, 7> p;
     int n = 0;
     double top_m = 0;
     /// From interpolated geometry: a possible obstacle (never lethal, never free).
     bool possible = false;
     /// How far a measured obstacle may extend beyond its face (EvidenceModel::obstacle_extension).
     double extension_m = 0;
+    /// A part beyond a side of the strip a drive swept (addUnsweptParts): it lies where
+    /// side_normal . p >= side_offset (p relative to the centroid), and neither it nor its
+    /// extension reaches a footprint that stays on the strip's side of that line (the drive shows
+    /// nothing stood there).
+    bool beyond_strip = false;
+    Eigen::Vector2d side_normal = Eigen::Vector2d::Zero();
+    double side_offset = 0;
   };
   /// Clips face t (its sampling geometry) to the body of the face with centroid c and reference
   /// plane slopes (ref_a, ref_b); false if no part of it lies there.
@@ -209,6 +227,24 @@ class LayerComputer {
   /// `margin_m` on every side (a rectangle: its half-extents), meets the obstacle.
   bool meets(const Obstacle& o, std::size_t heading, const Eigen::Vector2d& at, double margin_m = 0) const;
 
+  /// Whether every corner p[0..n) (relative to the centroid c) lies over driven ground within the
+  /// height window [z_lo, z_hi].
+  bool overDrivenGround(const SurfaceStore& store, const Eigen::Vector2d* p, int n, const Eigen::Vector3d& c,
+                        double z_lo, double z_hi) const;
+  /// Appends the rectangle turned by theta (radians from +x) to the headings.
+  void addHeading(double theta) const;
+  /// The profile's headings, and for a rectangle on driven ground with a drive axis, that one.
+  void setDriveHeading(const StoredFace& f) const;
+  /// Over driven face f: adds obstacle part o (relative to f's centroid) of a face slanted through
+  /// the body's volume, less what the drive contradicts: the part inside the strip the body swept
+  /// (sweptHalfWidthM() about f.drive_centre along f.drive_axis) that lies over driven ground.
+  /// Without a drive axis the strip is unknown and the drive contradicts all of it.
+  void addUnsweptParts(const SurfaceStore& store, const StoredFace& f, const Obstacle& o, double z_lo,
+                       double z_hi, double reach_m) const;
+  /// Half the width of the strip the body sweeps: a rectangle's half width, a disc's radius.
+  double sweptHalfWidthM() const {
+    return profile_.footprint == FootprintShape::kDisc ? profile_.footprint_radius_m : 0.5 * profile_.footprint_width_m;
+  }
   /// Collects, for face s, its ground candidates (candidates_) and the parts of non-ground faces
   /// inside its body (obstacles_), measured or possible, with their possible extension.
   void collectNearby(const SurfaceStore& store, Slot s, const Reference& reference_plane, bool driven) const;
@@ -279,11 +315,13 @@ class LayerComputer {
   /// Index in offsets_ of grid node (i, j), i and j in [-K, K], at (i + K) * (2K + 1) + j + K; -1
   /// outside the disc.
   std::vector<int> offset_index_;
-  /// Per heading, the indices of offsets_ inside the footprint.
-  std::vector<std::vector<int>> heading_samples_;
+  /// Per heading, the indices of offsets_ inside the footprint: the profile's headings
+  /// (fixed_headings_ of them), then for a driven face with a drive axis that one (setDriveHeading).
+  mutable std::vector<std::vector<int>> heading_samples_;
+  std::size_t fixed_headings_ = 1;
   std::vector<OffsetTerms> offset_terms_;
   /// Per heading, the rectangle's axes along and across it (unused for a disc).
-  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> heading_axes_;
+  mutable std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> heading_axes_;
   double band_down_m_;
   double clearance_search_m_;
   double cos_max_slope_;

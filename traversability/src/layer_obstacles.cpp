@@ -15,6 +15,27 @@ namespace {
 
 /// Surface must reach this far above max_step_m (far more than rounding) to be inside the body.
 constexpr double kBodyToleranceM = 1e-9;
+/// A part must reach this far across a side of the swept strip to lie beyond it (far more than
+/// rounding).
+constexpr double kSweptSideToleranceM = 1e-6;
+
+/// Sutherland-Hodgman: the part of convex polygon `in` (n points) where normal . p >= bound, into
+/// `out` (room for n + 1 points); 0 if it only touches the line (a footprint touching the line
+/// meets it).
+int clipToHalfPlane(const Eigen::Vector2d* in, int n, const Eigen::Vector2d& normal, double bound,
+                    Eigen::Vector2d* out) {
+  int m = 0;
+  double reach = 0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d& p = in[i];
+    const Eigen::Vector2d& q = in[(i + 1) % n];
+    const double dp = normal.dot(p) - bound, dq = normal.dot(q) - bound;
+    if (dp >= 0) out[m++] = p;
+    if ((dp >= 0) != (dq >= 0)) out[m++] = p + (q - p) * (dp / (dp - dq));
+    reach = std::max(reach, dp);
+  }
+  return reach > kSweptSideToleranceM ? m : 0;
+}
 
 }  // namespace
 
@@ -93,6 +114,42 @@ void LayerComputer::collectSupportedParts(const SampleGeometry& t, const Eigen::
   }
 }
 
+void LayerComputer::addUnsweptParts(const SurfaceStore& store, const StoredFace& f, const Obstacle& o, double z_lo,
+                                    double z_hi, double reach_m) const {
+  // Without the drive's centre line the strip is unknown: the drive contradicts the part whole.
+  if (!(f.drive_axis.squaredNorm() > 0)) return;
+  // The strip |across| <= half width about the drive's centre line, across = n . p - offset
+  // (p relative to the centroid).
+  const Eigen::Vector2d n(-f.drive_axis.y(), f.drive_axis.x());
+  const double offset = n.dot(f.drive_centre - f.centroid_L.head<2>());
+  const double half = sweptHalfWidthM();
+  // Beyond either side nobody drove: those parts count whole.
+  for (const double sign : {1.0, -1.0}) {
+    Obstacle beyond = o;
+    beyond.n = clipToHalfPlane(o.p.data(), o.n, sign * n, half + sign * offset, beyond.p.data());
+    if (beyond.n == 0) continue;
+    beyond.beyond_strip = true;
+    beyond.side_normal = sign * n;
+    beyond.side_offset = half + sign * offset;
+    obstacles_.push_back(beyond);
+  }
+  // Inside, the part not over driven ground (the strip ends where the drive began or stopped),
+  // judged at the corners of what lies within the footprints' reach (a box reach_m about the
+  // centroid): corners farther away could not change what a footprint meets.
+  Obstacle inside = o, half_strip = o;
+  half_strip.n = clipToHalfPlane(o.p.data(), o.n, n, offset - half, half_strip.p.data());
+  inside.n = clipToHalfPlane(half_strip.p.data(), half_strip.n, -n, -(offset + half), inside.p.data());
+  if (inside.n == 0) return;
+  std::array<Eigen::Vector2d, 12> a, b;
+  std::copy(inside.p.begin(), inside.p.begin() + inside.n, a.begin());
+  int m = inside.n;
+  for (const Eigen::Vector2d& axis : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}) {
+    m = clipToHalfPlane(a.data(), m, axis, -reach_m, b.data());
+    m = clipToHalfPlane(b.data(), m, -axis, -reach_m, a.data());
+  }
+  if (m > 0 && !overDrivenGround(store, a.data(), m, f.centroid_L, z_lo, z_hi)) obstacles_.push_back(inside);
+}
+
 bool LayerComputer::unconfirmedInBody(const StoredFace& f, double ref_a, double ref_b, const Eigen::Vector3d& p,
                                       Eigen::Vector2d& offset) const {
   // Where the robot stands on the face closest to the point: a planner may put it anywhere on it.
@@ -128,6 +185,15 @@ void LayerComputer::collectUnconfirmed(const StoredFace& f, double ref_a, double
 
 bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eigen::Vector2d& at,
                           double margin_m) const {
+  if (shadow.beyond_strip) {
+    // The footprint's farthest reach across the strip's side.
+    const Eigen::Vector2d& n = shadow.side_normal;
+    const double extent = profile_.footprint == FootprintShape::kDisc
+                              ? radius_m_
+                              : 0.5 * profile_.footprint_length_m * std::abs(n.dot(heading_axes_[heading].first)) +
+                                    0.5 * profile_.footprint_width_m * std::abs(n.dot(heading_axes_[heading].second));
+    if (!(n.dot(at) + extent > shadow.side_offset + kSweptSideToleranceM)) return false;
+  }
   // The shadow relative to the footprint's centre `at`.
   Obstacle o = shadow;
   for (int i = 0; i < o.n; ++i) o.p[static_cast<std::size_t>(i)] -= at;

@@ -3,6 +3,7 @@
 // hash grid in the horizontal plane. Internal to terramesh::traversability.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -39,6 +40,11 @@ struct StoredFace {
   std::uint8_t driven_vertices = 0;
   bool steiner = false;
   bool alive = false;
+  /// On driven ground (all three vertices driven, a pose lookup set): the horizontal unit axis the
+  /// robot drove along there (either sense), zero otherwise; and a point of the drive's centre
+  /// line (the mean of the vertices' base origins, L).
+  Eigen::Vector2d drive_axis = Eigen::Vector2d::Zero();
+  Eigen::Vector2d drive_centre = Eigen::Vector2d::Zero();
   FaceLayers layers;
   /// Fraction of the footprint samples that found ground on faces no steeper than max_slope
   /// (set with the local layers; tells a step riser from a steep ramp).
@@ -155,6 +161,10 @@ class SurfaceStore {
   /// Adds a face, replacing one with the same key. Returns its slot.
   /// @throw std::length_error if 2^30 slots are in use.
   Slot add(const mesher::SurfaceFace& face);
+  /// Sets face s's drive_axis and drive_centre from the bases of its vertices (all driven; else
+  /// zero): the mean of their horizontal axes, taken modulo a half turn (zero when they spread),
+  /// and of their origins.
+  void setDrive(Slot s, const std::function<std::optional<Eigen::Isometry3d>(mesher::PointId)>& lookup);
   /// Removes the face with this key; false if unknown.
   bool remove(const mesher::FaceKey& key);
   /// Removes the alive face in slot s (its slot may be reused by the next add).

@@ -413,6 +413,17 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   return augmented;
 }
 
+std::optional<Eigen::Isometry3d> TrajectoryEvidence::baseOf(mesher::PointId id) const {
+  if (!isDrivenGroundId(id)) return std::nullopt;
+  const std::uint64_t index = id.value & (kMaxDrivenSamplesPerKeyframe - 1);
+  const std::uint64_t keyframe = (id.value & ~kDrivenGroundIdBit) >> kDrivenSampleIndexBits;
+  const auto it = poses_.find(keyframe);
+  if (it == poses_.end()) return std::nullopt;
+  const std::size_t station = static_cast<std::size_t>(index) / layout_B_m_.size();
+  if (station > it->second.stations) return std::nullopt;
+  return baseAt(stationPose(it->second, station));
+}
+
 std::vector<mesher::PointId> TrajectoryEvidence::sampleIdsOf(mesher::KeyframeId id) const {
   const auto it = poses_.find(id.value);
   if (it == poses_.end()) return {};

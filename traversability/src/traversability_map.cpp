@@ -80,6 +80,7 @@ class TraversabilityMap::Impl {
     return point_changes_.size() != before;
   }
   std::size_t unconfirmedCount() const { return unconfirmed_.size(); }
+  void setDrivePoses(DrivePoseLookup lookup) { drive_poses_ = std::move(lookup); }
 
   LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces) {
     const auto start = std::chrono::steady_clock::now();
@@ -87,7 +88,7 @@ class TraversabilityMap::Impl {
     store_.clear();
     distance_.clear();
     lethal_.clear();
-    for (const mesher::SurfaceFace& face : faces) store_.add(face);
+    for (const mesher::SurfaceFace& face : faces) store_.setDrive(store_.add(face), drive_poses_);
     grow();
     std::vector<Slot> all;
     for (Slot s = 0; s < store_.slotCount(); ++s) {
@@ -106,6 +107,12 @@ class TraversabilityMap::Impl {
     stats.full_rebuild = true;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
+  }
+
+  /// Face s as a change (added, removed or re-judged).
+  Change changeOf(Slot s) const {
+    const internal::SampleGeometry& g = store_.geometry(s);
+    return {internal::projectionOf(store_.face(s)), store_.bounds(s), g.sampleable, g.sampleable && g.driven};
   }
 
   /// The first step of apply(): removes and adds the delta's faces and re-reads the observation
@@ -127,7 +134,7 @@ class TraversabilityMap::Impl {
       const std::optional<Slot> slot = store_.find(key);
       if (!slot) return false;
       const bool had_distance = std::isfinite(distance_[*slot]);
-      changed.push_back({internal::projectionOf(store_.face(*slot)), store_.bounds(*slot), store_.geometry(*slot).sampleable});
+      changed.push_back(changeOf(*slot));
       if (had_distance) change_points.push_back(store_.centroid(*slot));
       // Its edge neighbours' rise confirmation read its vertices (LayerComputer::riseConfirmed).
       store_.neighbours(*slot, scratch_neighbours_);
@@ -154,7 +161,7 @@ class TraversabilityMap::Impl {
       if (computer_.setEvidence(store_, s)) {
         reevidenced.push_back(s);
         change_points.push_back(f.centroid_L);
-        changed.push_back({internal::projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
+        changed.push_back(changeOf(s));
       } else {
         reobserved.push_back(s);
       }
@@ -180,6 +187,7 @@ class TraversabilityMap::Impl {
       }
       removeKey(face.key);  // then add() finds no face with its key
       const Slot s = store_.add(face);
+      store_.setDrive(s, drive_poses_);
       grow();
       lethal_[s] = 0;
       distance_[s] = kInf;
@@ -188,7 +196,7 @@ class TraversabilityMap::Impl {
       window_[s] = computer_.groundWindow(f);
       added.push_back(s);
       change_points.push_back(f.centroid_L);
-      changed.push_back({internal::projectionOf(f), store_.bounds(s), store_.geometry(s).sampleable});
+      changed.push_back(changeOf(s));
     }
     stats.faces_added += added.size();
     for (const mesher::SurfaceFace& face : around) {
@@ -241,19 +249,21 @@ class TraversabilityMap::Impl {
       if (!store_.face(s).alive) continue;
       markDirty(s);
       if (computer_.evidenceReadsNeighbours(store_.face(s)) && computer_.setEvidence(store_, s)) {
-        changed.push_back({internal::projectionOf(store_.face(s)), store_.bounds(s), store_.geometry(s).sampleable});
+        changed.push_back(changeOf(s));
         change_points.push_back(store_.centroid(s));
       }
     }
     for (const Change& change : changed) {
       const Projection& p = change.projection;
-      const Eigen::Vector2d r(reach, reach);
+      const double box = change.driven ? std::sqrt(2.0) * reach : reach;  // see readsDrivenGround
+      const Eigen::Vector2d r(box, box);
       store_.forEachCentroidInBox(p.lo - r, p.hi + r, [&](Slot s) {
         if (mark_[s] == epoch) return;
         const Eigen::Vector3d& c = store_.centroid(s);
         const double distance = internal::distanceToTriangle(c.head<2>(), p);
-        if (distance <= reach &&
-            computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) {
+        if ((distance <= reach && computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) ||
+            (change.driven && distance <= box &&
+             computer_.readsDrivenGround(store_.face(s), window_[s], change.bounds, distance))) {
           markDirty(s);
         }
       });
@@ -467,6 +477,7 @@ class TraversabilityMap::Impl {
 
   RobotProfile profile_;
   MapFrame frame_;
+  DrivePoseLookup drive_poses_;
   internal::LayerComputer computer_;
   SurfaceStore store_;
   std::vector<double> distance_;  ///< per slot, geodesic metres to the nearest lethal face
@@ -528,6 +539,7 @@ LayerUpdateStats TraversabilityMap::setUnconfirmedPoints(const std::vector<meshe
   return stats;
 }
 LayeredMesh TraversabilityMap::snapshot() const { return impl_->snapshot(); }
+void TraversabilityMap::setDrivePoses(DrivePoseLookup lookup) { impl_->setDrivePoses(std::move(lookup)); }
 std::size_t TraversabilityMap::faceCount() const { return impl_->faceCount(); }
 const RobotProfile& TraversabilityMap::profile() const { return impl_->profile(); }
 const MapFrame& TraversabilityMap::frame() const { return impl_->frame(); }

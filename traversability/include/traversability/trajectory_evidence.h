@@ -263,6 +263,11 @@ class TrajectoryEvidence {
   /// The ids of all samples keyframe `id` has or had (its patch and stations); empty if unknown.
   std::vector<mesher::PointId> sampleIdsOf(mesher::KeyframeId id) const;
 
+  /// The robot base frame (map frame, map units) where driven-ground sample `id` was put down: at
+  /// its keyframe's current pose or station. nullopt for an id that is not a sample of a recorded
+  /// keyframe. (TraversabilityMap::setDrivePoses.)
+  std::optional<Eigen::Isometry3d> baseOf(mesher::PointId id) const;
+
   /// Samples of one patch (a keyframe carries one patch, plus one per station).
   std::size_t samplesPerKeyframe() const { return layout_B_m_.size(); }
   /// Most stations one keyframe can carry: the id range of its samples holds this many patches

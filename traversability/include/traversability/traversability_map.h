@@ -1,8 +1,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstddef>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "mesher/mesher.h"
@@ -44,6 +47,11 @@ struct LayerUpdateStats {
   std::size_t unconfirmed_points = 0;
   double seconds = 0;                ///< wall-clock time of the update
 };
+
+/// Where the robot stood when it put a driven-ground sample (mesher::PointKind::kDrivenGround)
+/// down: its base frame's pose in the map frame (map units; x forward), or nullopt if the sample
+/// is unknown (TrajectoryEvidence::baseOf).
+using DrivePoseLookup = std::function<std::optional<Eigen::Isometry3d>(mesher::PointId)>;
 
 /// Per-face traversability layers of a surface, for one robot, kept current incrementally.
 ///
@@ -88,6 +96,15 @@ class TraversabilityMap {
   /// of radius EvidenceModel::unconfirmed_point_extension_m, making the face uncertain, never
   /// lethal. Faces on driven ground ignore them (the drive contradicts an unconfirmed point).
   LayerUpdateStats setUnconfirmedPoints(const std::vector<mesher::UnconfirmedPoint>& points);
+
+  /// Sets where the robot stood on the driven-ground samples. A face on driven ground then knows the
+  /// centre line and axis of the drive there (the mean of its vertices' bases): the drive
+  /// contradicts obstacles only inside the strip its body swept (half the footprint's width, or
+  /// its radius, on each side of that line), not beyond it; and a rectangle is also judged turned
+  /// along the drive, besides the profile's contact_headings. Read when a face is added: set it
+  /// before the first update (or reset() after). Without it, every obstacle over driven ground
+  /// counts as swept.
+  void setDrivePoses(DrivePoseLookup lookup);
 
   /// Layers of a finished mesh (e.g. read from PLY). Faces touching a vertex flagged in
   /// `mesh.is_steiner` are unmeasured; without the flags every face counts as measured. Faces take
