@@ -7,8 +7,6 @@
 //   terramesh_latency_bench STREAM [--max-keyframes N] [--mesh-out FILE.ply]
 //                           [--check-invariants-every K] [--slowest N] [--enclosing-radius-cells R]
 //                           [--handle-min-rays N]
-#include <time.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_streams.h"
 #include "datasets/slam_stream.h"
 #include "datasets/stream_reader.h"
 #include "mesher/mesh_io.h"
@@ -26,18 +25,9 @@ namespace {
 
 using namespace terramesh;
 
-double threadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
+using bench::threadCpuSeconds;
 
-double quantile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const auto rank = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5);
-  return values[std::min(rank, values.size() - 1)];
-}
+double quantile(const std::vector<double>& values, double q) { return bench::percentile(values, q); }
 
 double mean(const std::vector<double>& values, std::size_t from, std::size_t to) {
   if (to <= from) return 0.0;

@@ -7,21 +7,17 @@
 // recomputation, delta faces and real changes (churn netted out) per keyframe, full faces/s, and
 // the CPU time of the mesher's two queries that TraversabilityMap::update adds to apply.
 #include <benchmark/benchmark.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
-#include <fstream>
 #include <cstdlib>
 #include <memory>
 #include <sstream>
 #include <variant>
 
-#include "datasets/slam_simulation.h"
+#include "bench_streams.h"
+#include "common/machine_info.h"
 #include "datasets/stream_reader.h"
-#include "datasets/synthetic_scene.h"
-#include "datasets/triangle_bvh.h"
 #include "mesher/mesher.h"
 #include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
@@ -31,83 +27,14 @@ namespace {
 
 const std::filesystem::path kRobots = std::filesystem::path(TERRAMESH_SOURCE_DIR) / "traversability" / "robots";
 
-std::string describeMachine() {
-  std::string model = "unknown CPU";
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  for (std::string line; std::getline(cpuinfo, line);) {
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  }
-  std::ostringstream out;
-  out << model << ", " << ::sysconf(_SC_NPROCESSORS_ONLN) << " cores online";
-  return out.str();
-}
-
-/// A SLAM stream to mesh and the map's up direction.
-struct BenchStream {
-  std::string name;
-  datasets::SlamStream stream;
-  Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
-};
-
-/// The KITTI-like stream (issue 3's benchmark density) along a procedural 200 m street.
-BenchStream builtinStreet() {
-  datasets::StreetSceneConfig config;
-  config.length_m = 200.0;
-  const datasets::SyntheticScene scene = datasets::buildStreetScene(config);
-  const datasets::TriangleBvh bvh(scene.ground_truth.mesh);
-  BenchStream s;
-  s.name = "street200";
-  s.stream = datasets::simulateSlam(scene, bvh, datasets::kittiLikeSlamConfig()).stream;
-  s.up_W = scene.up_W;
-  return s;
-}
-
-/// A stream file (e.g. DIR/stream.tmstream of `terramesh generate`); up is read from the
-/// `up_W x y z` line of DIR/generation.txt if there is one, else estimated from the cameras.
-BenchStream fileStream(const std::filesystem::path& path) {
-  BenchStream s;
-  s.name = path.parent_path().filename().string();
-  if (s.name.empty()) s.name = path.stem().string();
-  s.stream = datasets::readAnyStream(path);
-  std::ifstream generation(path.parent_path() / "generation.txt");
-  for (std::string line; std::getline(generation, line);) {
-    std::istringstream in(line);
-    std::string key;
-    double x = 0, y = 0, z = 0;
-    if (in >> key && key == "up_W" && in >> x >> y >> z) {
-      s.up_W = Eigen::Vector3d(x, y, z).normalized();
-      return s;
-    }
-  }
-  std::vector<Eigen::Matrix3d> rotations;
-  for (const datasets::StreamEvent& event : s.stream.events) {
-    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
-      rotations.push_back(keyframe->rotation_W_C.toRotationMatrix());
-    }
-  }
-  s.up_W = estimateUpFromCameras(rotations);
-  return s;
-}
-
-double percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t i = static_cast<std::size_t>(std::lround(q * static_cast<double>(values.size() - 1)));
-  return values[i];
-}
+using bench::BenchStream;
+using bench::builtinStreet;
+using bench::fileStream;
+using bench::percentile;
+using bench::threadCpuSeconds;
 
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-/// CPU time of this thread: robust to other processes sharing the cores.
-double threadCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 /// Meshes the whole stream; after every keyframe applies the delta to the layers (timed); every
@@ -236,17 +163,17 @@ void registerStream(const BenchStream* s, const std::vector<std::string>& robots
 /// Streams: the built-in 200 m street (small_wheeled and car), plus every stream file listed in
 /// the environment variable TERRAMESH_TRAV_STREAMS (separated by ':'; small_wheeled only).
 int main(int argc, char** argv) {
-  using terramesh::traversability::BenchStream;
-  benchmark::AddCustomContext("machine", terramesh::traversability::describeMachine());
+  using terramesh::bench::BenchStream;
+  benchmark::AddCustomContext("machine", terramesh::describeMachine());
   benchmark::Initialize(&argc, argv);
   std::vector<std::unique_ptr<BenchStream>> streams;
-  streams.push_back(std::make_unique<BenchStream>(terramesh::traversability::builtinStreet()));
+  streams.push_back(std::make_unique<BenchStream>(terramesh::bench::builtinStreet()));
   terramesh::traversability::registerStream(streams.back().get(), {"small_wheeled", "car"});
   if (const char* list = std::getenv("TERRAMESH_TRAV_STREAMS")) {
     std::istringstream in(list);
     for (std::string path; std::getline(in, path, ':');) {
       if (path.empty()) continue;
-      streams.push_back(std::make_unique<BenchStream>(terramesh::traversability::fileStream(path)));
+      streams.push_back(std::make_unique<BenchStream>(terramesh::bench::fileStream(path)));
       benchmark::AddCustomContext("stream " + streams.back()->name, path);
       terramesh::traversability::registerStream(streams.back().get(), {"small_wheeled"});
     }

@@ -12,7 +12,7 @@
 #include "common/atomic_file.h"
 #include "datasets/stream_reader.h"
 #include "input_options.h"
-#include "machine_info.h"
+#include "common/machine_info.h"
 #include "mesher_options.h"
 
 namespace terramesh::cli {
@@ -65,7 +65,7 @@ int runBench(const std::vector<std::string>& args) {
 
   BenchContext context;
   context.stream_name = input.string();
-  context.machine = describeMachine();
+  context.machine = terramesh::describeMachine();
   context.camera_frames = static_cast<std::size_t>(camera_frames);
   context.camera_rate_hz = rate;
   std::vector<BenchRun> runs;

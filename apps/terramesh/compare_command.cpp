@@ -120,17 +120,10 @@ std::vector<evaluation::EvaluationView> readViews(const std::filesystem::path& p
 template <class ToTruth, class Rotate>
 std::vector<evaluation::EvaluationView> streamViews(const datasets::SlamStream& stream, std::size_t step,
                                                   const ToTruth& to_truth, const Rotate& rotate) {
-  std::map<mesher::KeyframeId, evaluation::EvaluationView> latest;
-  for (const datasets::StreamEvent& event : stream.events) {
-    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
-      latest[keyframe->id] = {to_truth(keyframe->position_W_C), rotate(keyframe->rotation_W_C)};
-    }
-    if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) latest.erase(removal->keyframe);
-  }
   std::vector<evaluation::EvaluationView> views;
   std::size_t i = 0;
-  for (const auto& [id, view] : latest) {
-    if (i++ % step == 0) views.push_back(view);
+  for (const datasets::LatestKeyframePose& pose : datasets::latestKeyframePoses(stream)) {
+    if (i++ % step == 0) views.push_back({to_truth(pose.position_W_C), rotate(pose.rotation_W_C)});
   }
   return views;
 }

@@ -3,38 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <unordered_map>
 #include <variant>
 
 namespace terramesh::cli {
-namespace {
-
-/// Latest pose of every keyframe and latest estimate of every point in the stream.
-void latestEstimates(const datasets::SlamStream& stream, std::vector<Eigen::Vector3d>& sensors_W,
-                     std::vector<Eigen::Vector3d>& points_W) {
-  std::unordered_map<mesher::KeyframeId, Eigen::Vector3d> keyframes;
-  std::unordered_map<mesher::PointId, Eigen::Vector3d> points;
-  for (const datasets::StreamEvent& event : stream.events) {
-    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
-      keyframes[keyframe->id] = keyframe->position_W_C;
-      for (const mesher::PointObservation& observation : keyframe->observations) {
-        points[observation.point] = observation.position_W;
-      }
-    } else if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
-      keyframes.erase(removal->keyframe);
-    }
-  }
-  // Keyframe order only changes which keyframe comes first in the medians' input: sort for
-  // determinism.
-  std::vector<std::pair<std::uint64_t, Eigen::Vector3d>> sorted;
-  for (const auto& [id, position] : keyframes) sorted.emplace_back(id.value, position);
-  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& entry : sorted) sensors_W.push_back(entry.second);
-  points_W.reserve(points.size());
-  for (const auto& entry : points) points_W.push_back(entry.second);
-}
-
-}  // namespace
 
 void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& options) {
   app.add_flag("--no-trajectory-evidence", options.off,
@@ -64,8 +35,11 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   config.station_spacing_m = options.station_spacing_m;
   const traversability::RobotProfile& profile = session->profile();
   const traversability::MapFrame& frame = session->frame();
-  std::vector<Eigen::Vector3d> sensors_W, points_W;
-  latestEstimates(stream, sensors_W, points_W);
+  std::vector<Eigen::Vector3d> sensors_W;
+  for (const datasets::LatestKeyframePose& pose : datasets::latestKeyframePoses(stream)) {
+    sensors_W.push_back(pose.position_W_C);
+  }
+  const std::vector<Eigen::Vector3d> points_W = datasets::latestPointEstimates(stream);
   const traversability::SensorHeightEstimate estimate =
       traversability::estimateSensorHeight(sensors_W, points_W, frame.up_W, frame.metres_per_unit, config);
   const traversability::TrajectoryEvidenceDecision decision = traversability::decideTrajectoryEvidence(
@@ -92,33 +66,9 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
 
 mesher::UpdateStats TrajectoryEvidenceRun::apply(mesher::Mesher& mesher, const datasets::StreamEvent& event) {
   if (!evidence_) return datasets::applyEvent(mesher, event);
-  if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
-    mesher::UpdateStats stats = mesher.integrateKeyframe(evidence_->augment(*keyframe));
-    // Points the robot drove through: outliers, out of the map (an earlier keyframe may have
-    // inserted them).
-    if (!evidence_->newlyContradicted().empty()) stats += mesher.removePoints(evidence_->newlyContradicted());
-    // Obstacles seen later where the robot drove before: that drive's evidence goes.
-    for (const mesher::KeyframeId& view : evidence_->newlyWithdrawnViews()) stats += mesher.removeKeyframe(view);
-    for (const mesher::KeyframeId& overridden : evidence_->newlyOverridden()) {
-      stats += mesher.removePoints(evidence_->sampleIdsOf(overridden));
-    }
-    // The body views from the previous keyframe (or none any more: the mesher ignores unknown ids).
-    const std::vector<mesher::Keyframe> views = evidence_->bodyViewsOf(keyframe->id);
-    for (const mesher::Keyframe& view : views) stats += mesher.integrateKeyframe(view);
-    if (views.empty()) {
-      for (const mesher::KeyframeId& view : traversability::bodyViewIds(keyframe->id)) stats += mesher.removeKeyframe(view);
-    }
-    return stats;
-  }
+  if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) return evidence_->integrate(mesher, *keyframe);
   if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
-    mesher::UpdateStats stats = mesher.removeKeyframe(removal->keyframe);
-    for (const mesher::KeyframeId& view : traversability::bodyViewIds(removal->keyframe)) {
-      stats += mesher.removeKeyframe(view);
-    }
-    const std::vector<mesher::PointId> samples = evidence_->remove(removal->keyframe);
-    // The keyframe after it still observes them (its sweep rays): they go with their keyframe.
-    if (!samples.empty()) stats += mesher.removePoints(samples);
-    return stats;
+    return evidence_->removeKeyframe(mesher, removal->keyframe);
   }
   const auto& points = std::get<datasets::PointRemoval>(event).points;
   for (const mesher::PointId& id : points) {

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <type_traits>
+#include <unordered_map>
+#include <utility>
 
 #include "mesher/mesher.h"
 
@@ -36,6 +39,38 @@ double observationDistanceQuantile(const SlamStream& stream, double quantile) {
   std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(index),
                    distances.end());
   return distances[index];
+}
+
+std::vector<LatestKeyframePose> latestKeyframePoses(const SlamStream& stream) {
+  std::map<mesher::KeyframeId, LatestKeyframePose> latest;
+  for (const StreamEvent& event : stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+      latest[keyframe->id] = {keyframe->id, keyframe->position_W_C, keyframe->rotation_W_C};
+    } else if (const auto* removal = std::get_if<KeyframeRemoval>(&event)) {
+      latest.erase(removal->keyframe);
+    }
+  }
+  std::vector<LatestKeyframePose> poses;
+  poses.reserve(latest.size());
+  for (const auto& entry : latest) poses.push_back(entry.second);
+  return poses;
+}
+
+std::vector<Eigen::Vector3d> latestPointEstimates(const SlamStream& stream) {
+  std::unordered_map<mesher::PointId, Eigen::Vector3d> latest;
+  for (const StreamEvent& event : stream.events) {
+    const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
+    if (keyframe == nullptr) continue;
+    for (const mesher::PointObservation& observation : keyframe->observations) {
+      latest[observation.point] = observation.position_W;
+    }
+  }
+  std::vector<std::pair<mesher::PointId, Eigen::Vector3d>> sorted(latest.begin(), latest.end());
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(sorted.size());
+  for (const auto& entry : sorted) points.push_back(entry.second);
+  return points;
 }
 
 mesher::UpdateStats applyEvent(mesher::Mesher& mesher, const StreamEvent& event) {

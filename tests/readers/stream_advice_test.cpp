@@ -3,6 +3,8 @@
 // so that `terramesh mesh` on the saved stream makes the same choices as on the original model.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "datasets/colmap_reader.h"
 #include "datasets/stream_format.h"
 #include "datasets/stream_reader.h"
@@ -69,6 +71,37 @@ TEST(StreamAdvice, BadAdviceNamesTheLine) {
   writeFile(dir / "c.tmstream", "terramesh_stream 1\nsensor_up 0 0 0\n");
   expectErrorAt(expectInputError([&] { datasets::readStreamFile(dir / "c.tmstream"); }), dir / "c.tmstream",
                 "line 2", "sensor_up");
+}
+
+TEST(StreamAdvice, LatestPosesAndEstimatesFollowCorrectionsAndRemovals) {
+  datasets::SlamStream stream;
+  const auto keyframe = [](std::uint64_t id, double x, std::vector<mesher::PointObservation> observations) {
+    mesher::Keyframe k;
+    k.id.value = id;
+    k.position_W_C = Eigen::Vector3d(x, 0, 0);
+    k.observations = std::move(observations);
+    return k;
+  };
+  stream.events.emplace_back(keyframe(5, 0.0, {{{1}, Eigen::Vector3d(1, 1, 0)}, {{2}, Eigen::Vector3d(2, 1, 0)}}));
+  stream.events.emplace_back(keyframe(2, 1.0, {{{2}, Eigen::Vector3d(2, 2, 0)}}));
+  stream.events.emplace_back(keyframe(9, 2.0, {{{3}, Eigen::Vector3d(3, 1, 0)}}));
+  stream.events.emplace_back(keyframe(5, 0.5, {{{1}, Eigen::Vector3d(1, 3, 0)}}));  // a loop closure re-sends 5
+  stream.events.emplace_back(datasets::KeyframeRemoval{{9}});
+  stream.events.emplace_back(datasets::PointRemoval{{{1}}});
+
+  const std::vector<datasets::LatestKeyframePose> poses = datasets::latestKeyframePoses(stream);
+  ASSERT_EQ(poses.size(), 2u) << "keyframe 9 was removed";
+  EXPECT_EQ(poses[0].id.value, 2u) << "in id order";
+  EXPECT_EQ(poses[1].id.value, 5u);
+  EXPECT_EQ(poses[1].position_W_C, Eigen::Vector3d(0.5, 0, 0)) << "the corrected pose";
+
+  // Every point ever observed, at its last estimate, in id order (removed points included: their
+  // positions still say where the ground was seen).
+  const std::vector<Eigen::Vector3d> points = datasets::latestPointEstimates(stream);
+  ASSERT_EQ(points.size(), 3u);
+  EXPECT_EQ(points[0], Eigen::Vector3d(1, 3, 0));
+  EXPECT_EQ(points[1], Eigen::Vector3d(2, 2, 0));
+  EXPECT_EQ(points[2], Eigen::Vector3d(3, 1, 0));
 }
 
 }  // namespace

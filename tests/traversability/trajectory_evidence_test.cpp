@@ -458,23 +458,17 @@ mesher::TriangleMesh meshStreet(bool with_evidence, const TrajectoryEvidenceConf
   if (with_evidence && ground_rule) mesher_config.driven_ground_up_W = s.scene.up_W.normalized();
   mesher::Mesher mesher(mesher_config);
   RobotProfile car = loadRobotProfile(kRobots / "car.yaml");
-  TrajectoryEvidence evidence(car, s.scene.up_W, 1.0, 1.65, Eigen::Vector3d::UnitZ(), config);
+  TrajectoryEvidenceConfig evidence_config = config;
+  evidence_config.body_views = body_views;
+  TrajectoryEvidence evidence(car, s.scene.up_W, 1.0, 1.65, Eigen::Vector3d::UnitZ(), evidence_config);
   std::size_t keyframes = 0;
   for (const datasets::StreamEvent& event : s.slam.stream.events) {
     const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
     const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event);
     if (with_evidence && keyframe) {
-      mesher.integrateKeyframe(evidence.augment(*keyframe));
-      const std::vector<mesher::Keyframe> views = evidence.bodyViewsOf(keyframe->id);
-      if (body_views && !views.empty()) {
-        for (const mesher::Keyframe& view : views) mesher.integrateKeyframe(view);
-      } else {
-        for (const mesher::KeyframeId& view : bodyViewIds(keyframe->id)) mesher.removeKeyframe(view);
-      }
+      evidence.integrate(mesher, *keyframe);
     } else if (with_evidence && removal) {
-      mesher.removeKeyframe(removal->keyframe);
-      for (const mesher::KeyframeId& view : bodyViewIds(removal->keyframe)) mesher.removeKeyframe(view);
-      mesher.removePoints(evidence.remove(removal->keyframe));
+      evidence.removeKeyframe(mesher, removal->keyframe);
     } else {
       datasets::applyEvent(mesher, event);
     }

@@ -65,6 +65,19 @@ struct SlamStream {
 /// @throw std::invalid_argument if quantile is not within [0, 1].
 double observationDistanceQuantile(const SlamStream& stream, double quantile);
 
+/// The last pose sent for a keyframe.
+struct LatestKeyframePose {
+  mesher::KeyframeId id;
+  Eigen::Vector3d position_W_C = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond rotation_W_C = Eigen::Quaterniond::Identity();
+};
+/// The last pose sent for every keyframe the stream has not removed by its end, in id order.
+/// O(events + keyframes log keyframes).
+std::vector<LatestKeyframePose> latestKeyframePoses(const SlamStream& stream);
+/// The last estimate sent for every point any keyframe observed (removed points included), in
+/// point id order. O(observations + points log points).
+std::vector<Eigen::Vector3d> latestPointEstimates(const SlamStream& stream);
+
 /// Feeds one event to the mesher and returns what the update did.
 mesher::UpdateStats applyEvent(mesher::Mesher& mesher, const StreamEvent& event);
 

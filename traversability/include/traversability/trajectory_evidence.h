@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mesher/keyframe.h"
+#include "mesher/mesher.h"
 #include "traversability/robot_profile.h"
 
 namespace terramesh::traversability {
@@ -118,6 +119,10 @@ struct TrajectoryEvidenceConfig {
   /// driven evidence (TrajectoryEvidence::newlyOverridden).
   bool later_obstacles_win = true;
 
+  /// Each keyframe sent after a keyframe within `max_sweep_distance_m` gets its body views
+  /// (TrajectoryEvidence::bodyViewsOf) in the mesher; off: none (an ablation of studies).
+  bool body_views = true;
+
   /// @throw std::invalid_argument listing every out-of-range field, each "key: value (expected ...)".
   void validate() const;
 };
@@ -201,6 +206,18 @@ class TrajectoryEvidence {
   TrajectoryEvidence& operator=(TrajectoryEvidence&&) noexcept;
   TrajectoryEvidence(const TrajectoryEvidence&) = delete;
   TrajectoryEvidence& operator=(const TrajectoryEvidence&) = delete;
+
+  /// Integrates `keyframe` into `mesher` with its evidence, the one sequence of a run with
+  /// trajectory evidence: the keyframe with its samples (augment); the points the drive
+  /// contradicts out of the mesher (newlyContradicted); the drive of the keyframes later obstacles
+  /// overrode withdrawn (newlyWithdrawnViews, then their samples); then this keyframe's body views
+  /// (bodyViewsOf, when `body_views` is on), or the removal of the ones it had. Returns the sum of
+  /// the mesher's updates.
+  /// @throw std::invalid_argument as augment and mesher::Mesher::integrateKeyframe do.
+  mesher::UpdateStats integrate(mesher::Mesher& mesher, const mesher::Keyframe& keyframe);
+  /// Removes keyframe `id` from `mesher` with its body views and then its samples, and forgets it
+  /// (remove). Unknown ids change nothing. Returns the sum of the mesher's updates.
+  mesher::UpdateStats removeKeyframe(mesher::Mesher& mesher, mesher::KeyframeId id);
 
   /// The samples of `keyframe` at its pose (no state change).
   /// A keyframe already recorded (augment) also gets the patches at its stations, between this pose

@@ -2,9 +2,9 @@
 
 #include <string>
 
-namespace terramesh::cli {
+namespace terramesh {
 
 /// "CPU model, N cores, M GiB" for benchmark reports, read from /proc (Linux).
 std::string describeMachine();
 
-}  // namespace terramesh::cli
+}  // namespace terramesh

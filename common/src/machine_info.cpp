@@ -1,11 +1,11 @@
-#include "machine_info.h"
+#include "common/machine_info.h"
 
 #include <unistd.h>
 
 #include <fstream>
 #include <sstream>
 
-namespace terramesh::cli {
+namespace terramesh {
 
 std::string describeMachine() {
   std::string model = "unknown CPU";
@@ -30,4 +30,4 @@ std::string describeMachine() {
   return out.str();
 }
 
-}  // namespace terramesh::cli
+}  // namespace terramesh

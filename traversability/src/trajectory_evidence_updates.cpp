@@ -1,0 +1,37 @@
+// The mesher updates of a run with trajectory evidence (TrajectoryEvidence::integrate and
+// removeKeyframe): which of the evidence's outputs reach the mesher, and in which order.
+#include "traversability/trajectory_evidence.h"
+
+#include <vector>
+
+namespace terramesh::traversability {
+
+mesher::UpdateStats TrajectoryEvidence::integrate(mesher::Mesher& mesher, const mesher::Keyframe& keyframe) {
+  mesher::UpdateStats stats = mesher.integrateKeyframe(augment(keyframe));
+  // Points the robot drove through: outliers, out of the map (an earlier keyframe may have
+  // inserted them).
+  if (!newly_contradicted_.empty()) stats += mesher.removePoints(newly_contradicted_);
+  // Obstacles seen later where the robot drove before: that drive's evidence goes, its views
+  // before its samples (the views observe them).
+  for (const mesher::KeyframeId& view : newly_withdrawn_views_) stats += mesher.removeKeyframe(view);
+  for (const mesher::KeyframeId& overridden : newly_overridden_) stats += mesher.removePoints(sampleIdsOf(overridden));
+  // The body views from the previous keyframe, or none any more (the mesher ignores unknown ids).
+  const std::vector<mesher::Keyframe> views =
+      config_.body_views ? bodyViewsOf(keyframe.id) : std::vector<mesher::Keyframe>{};
+  for (const mesher::Keyframe& view : views) stats += mesher.integrateKeyframe(view);
+  if (views.empty()) {
+    for (const mesher::KeyframeId& view : bodyViewIds(keyframe.id)) stats += mesher.removeKeyframe(view);
+  }
+  return stats;
+}
+
+mesher::UpdateStats TrajectoryEvidence::removeKeyframe(mesher::Mesher& mesher, mesher::KeyframeId id) {
+  mesher::UpdateStats stats = mesher.removeKeyframe(id);
+  for (const mesher::KeyframeId& view : bodyViewIds(id)) stats += mesher.removeKeyframe(view);
+  // The keyframe after it still observes the samples (its sweep rays): they go with their keyframe.
+  const std::vector<mesher::PointId> samples = remove(id);
+  if (!samples.empty()) stats += mesher.removePoints(samples);
+  return stats;
+}
+
+}  // namespace terramesh::traversability
