@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/input_error.h"
+#include "traversability/layer_registry.h"
 
 namespace terramesh::cli {
 namespace {
@@ -139,6 +140,16 @@ std::string runManifestJson(const fs::path& run_dir, const RunExtras& extras) {
     }
   }
   manifest["snapshots"] = snapshots;
+
+  // The per-face layers traversability.ply may hold: how the viewer labels them and their
+  // display range (traversability/layer_registry.h).
+  json layers = json::array();
+  for (const traversability::LayerInfo& layer : traversability::faceLayerRegistry()) {
+    json entry = {{"name", layer.name}, {"unit", layer.unit}, {"description", layer.description}};
+    if (layer.display_min <= layer.display_max) entry["range"] = {layer.display_min, layer.display_max};
+    layers.push_back(entry);
+  }
+  manifest["layers"] = layers;
   return manifest.dump(1);
 }
 

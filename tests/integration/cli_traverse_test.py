@@ -19,8 +19,9 @@ SOURCE = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 CHECKER = os.path.join(SHARED, "tools", "check_mesh.py")
 ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
 
-# list, cost, lethal, unknown, uncertain, 7 floats, height_uncertainty_m, evidence, rays, front_crossings, steiner
-FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 4 + 1
+# list, cost, lethal, unknown, uncertain, 7 floats, height_uncertainty_m, evidence, rays, reasons (ushort),
+# front_crossings, steiner
+FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 2 + 4 + 1
 VERTEX_BYTES = 3 * 8 + 1 + 4  # x y z, steiner, cost
 
 
@@ -124,7 +125,7 @@ class TempDirCase(unittest.TestCase):
         self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "uncertain", "slope_deg",
                                               "step_m", "roughness_m", "contact", "contact_best", "clearance_m",
                                               "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
-                                              "front_crossings", "steiner"])
+                                              "reasons", "front_crossings", "steiner"])
         self.assertEqual(os.path.getsize(os.path.join(out, "traversability.ply")),
                          header_size + vertex["count"] * VERTEX_BYTES + face["count"] * FACE_BYTES)
         for level in range(levels):
@@ -149,8 +150,9 @@ class TempDirCase(unittest.TestCase):
             info = json.loads(subprocess.run(["gdalinfo", "-json", os.path.join(out, "layers_level_0.tif")],
                                              capture_output=True, text=True, check=True).stdout)
             self.assertEqual([b["description"] for b in info["bands"]],
-                             ["cost", "class", "slope_deg", "step_m", "roughness_m", "contact", "clearance_m",
-                              "rays", "height_m", "evidence", "height_uncertainty_m"])
+                             ["cost", "class", "slope_deg", "step_m", "roughness_m", "contact", "contact_best",
+                              "clearance_m", "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
+                              "reasons", "height_m"])
             self.assertTrue(all(b["type"] == "Float32" and str(b["noDataValue"]).lower() == "nan" for b in info["bands"]))
 
 

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "test_support/traversability_scenes.h"
+#include "traversability/layer_registry.h"
 #include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
@@ -80,6 +81,7 @@ TEST(EvidenceTest, EveryFaceCarriesItsEvidenceAndHeightBound) {
       EXPECT_EQ(l.evidence, Evidence::kInterpolated);
       EXPECT_TRUE(std::isinf(l.height_uncertainty_m));
       EXPECT_EQ(l.face_class, FaceClass::kUnknown);
+      EXPECT_TRUE(l.reasons & reason::kClosingGeometry) << l.reasons;
     } else if (f % 2 == 1) {
       EXPECT_EQ(l.evidence, Evidence::kInterpolated);
       EXPECT_NEAR(l.height_uncertainty_m, m.point_noise_m + m.relief_per_m_unobserved * span, 1e-6);
@@ -89,6 +91,13 @@ TEST(EvidenceTest, EveryFaceCarriesItsEvidenceAndHeightBound) {
     }
   }
   EXPECT_GT(steiner, 0u);
+  // Seen by fewer rays than the profile asks: unknown, and why.
+  RobotProfile demanding = profile;
+  demanding.min_rays = 11;  // facesOf gives every face 10
+  for (const FaceLayers& l : layersOf(faces, demanding)) {
+    EXPECT_EQ(l.face_class, FaceClass::kUnknown);
+    EXPECT_TRUE(l.reasons & reason::kFewRays) << l.reasons;
+  }
   // Every vertex a driven-ground sample: driven evidence, with the mounting's uncertainty.
   const std::vector<FaceLayers> driven = layersOf(facesOf(mesh, 0, {}, 3), profile);
   for (std::size_t f = 0; f < faces.size(); ++f) {
@@ -118,6 +127,7 @@ TEST(EvidenceTest, SlabEdgeInterpolatedIntoARampIsUncertainNeverFree) {
     EXPECT_LT(layers[f].slope_deg, profile.max_slope_deg) << "the interpolated ramp looks drivable";
     EXPECT_EQ(layers[f].evidence, Evidence::kInterpolated);
     EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "face " << f;
+    EXPECT_TRUE(layers[f].reasons & reason::kPossibleStep) << "face " << f << ": reasons " << layers[f].reasons;
     EXPECT_FLOAT_EQ(layers[f].cost, static_cast<float>(profile.evidence.uncertain_cost));
   }
   EXPECT_GT(judged, 4u);
@@ -138,6 +148,11 @@ TEST(EvidenceTest, SlabEdgeInterpolatedIntoARampIsUncertainNeverFree) {
     if (std::abs(c.x() - 0.05) < 0.1 && std::abs(c.y()) < 2) {
       EXPECT_NE(measured[f].face_class, FaceClass::kFree) << "at x = " << c.x();
       lethal += measured[f].face_class == FaceClass::kLethal;
+      // A lethal face says which lethal rule holds, and only lethal rules.
+      if (measured[f].face_class == FaceClass::kLethal) {
+        EXPECT_NE(measured[f].reasons & (reason::kTooSteep | reason::kNoHeadingFits), 0) << "at x = " << c.x();
+        EXPECT_EQ(measured[f].reasons & ~(reason::kTooSteep | reason::kNoHeadingFits | reason::kLowClearance), 0);
+      }
     }
   }
   EXPECT_GT(lethal, 10u);
@@ -196,6 +211,7 @@ TEST(EvidenceTest, ASlopeJustUnderTheLimitIsFreeOnlyWhereMeasuredPointsConfirmIt
     EXPECT_NEAR(near[f].slope_deg, 18.5, 0.01);
     EXPECT_EQ(near[f].evidence, Evidence::kMeasured);
     EXPECT_EQ(near[f].face_class, FaceClass::kUncertain) << "face " << f;
+    EXPECT_TRUE(near[f].reasons & reason::kSlopeMayExceed) << "face " << f << ": reasons " << near[f].reasons;
   }
   EXPECT_GT(inner, 100u);
   const mesher::TriangleMesh sparse = test::heightFieldMesh(-6, 6, -6, 6, 1.5, ramp_at);
@@ -206,6 +222,7 @@ TEST(EvidenceTest, ASlopeJustUnderTheLimitIsFreeOnlyWhereMeasuredPointsConfirmIt
     if (std::abs(c.x()) > 3.0 || std::abs(c.y()) > 4.0) continue;
     ++inner;
     EXPECT_EQ(far[f].face_class, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+    EXPECT_EQ(far[f].reasons, 0) << "a free face has no reason not to be";
   }
   EXPECT_GT(inner, 10u);
   // A noisier sensor (10 cm) cannot vouch for it even over metres.
@@ -424,9 +441,12 @@ TEST(EvidenceTest, AnUnobservedWallIsUncertainNotLethal) {
       if (wall(f)) {
         ++walls;
         EXPECT_EQ(layers[f].face_class, want) << "wall face, observed " << observed;
+        EXPECT_TRUE(layers[f].reasons & (observed ? reason::kTooSteep : reason::kGuessedWall))
+            << "wall face, observed " << observed << ": reasons " << layers[f].reasons;
       } else if (near_floor(f)) {
         ++floors;
         EXPECT_EQ(layers[f].face_class, want) << "floor beside the wall, observed " << observed;
+        if (!observed) EXPECT_TRUE(layers[f].reasons & reason::kPossibleObstacle) << layers[f].reasons;
       }
     }
     EXPECT_EQ(walls, 4u);
@@ -475,6 +495,14 @@ TEST(EvidenceTest, TheFreeEndOfASparselyMeasuredWallKeepsTheFootprintClear) {
     for (FaceClass c : middle) {
       EXPECT_EQ(c, sparse ? FaceClass::kUncertain : FaceClass::kFree) << "sparse " << sparse << " at y " << between;
     }
+    if (sparse) {
+      for (std::size_t f = 0; f < floor_faces; ++f) {
+        const Eigen::Vector3d c = centroid(mesh, f);
+        if (std::abs(c.x() - 0.05) < 0.025 && std::abs(c.y() - between) < 0.025) {
+          EXPECT_EQ(layers[f].reasons, reason::kObstacleExtension) << "only the wall's possible extension";
+        }
+      }
+    }
     const double beyond = r + margin + 0.1;
     const std::vector<FaceClass> far = floorClassesAt(mesh, floor_faces, layers, 0.05, beyond);
     EXPECT_FALSE(far.empty());
@@ -498,6 +526,7 @@ TEST(EvidenceTest, AFootprintOverTooMuchUnknownGroundIsUncertain) {
     if (c.x() > -0.12) {
       ++near;
       EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at x " << c.x();
+      EXPECT_TRUE(layers[f].reasons & reason::kWorstCaseRelief) << "at x " << c.x() << ": " << layers[f].reasons;
       EXPECT_GE(layers[f].contact, static_cast<float>(profile.min_support)) << "the known part supports it";
     } else if (c.x() < -profile.footprintCircumradiusM() - 0.05 && c.x() > -2.5) {
       ++far;
@@ -535,6 +564,7 @@ TEST(EvidenceTest, AFootprintThatReachesAPossibleStepIsUncertain) {
     if (c.x() > -r + 0.1) {
       ++near;
       EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at x " << c.x();
+      EXPECT_EQ(layers[f].reasons, reason::kWorstCaseRelief) << "at x " << c.x();
     } else if (c.x() < -r - 0.1 && c.x() > -2.5) {
       ++far;
       EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at x " << c.x();

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -13,6 +14,7 @@
 
 #include "common/input_error.h"
 #include "test_support/temp_dir.h"
+#include "traversability/layer_registry.h"
 #include "traversability/map_directory.h"
 #include "traversability/map_levels.h"
 
@@ -271,6 +273,7 @@ class MapDirectoryTest : public ::testing::Test {
       if (v.x() >= 2 && v.x() < 3 && v.y() >= 2 && v.y() < 5) {
         map_.layers[f].face_class = FaceClass::kLethal;
         map_.layers[f].cost = 1;
+        map_.layers[f].reasons = reason::kTooSteep;
       }
       if (v.x() >= 4 && v.x() < 5 && v.y() >= 2 && v.y() < 5) {
         map_.layers[f].face_class = FaceClass::kUnknown;
@@ -278,12 +281,14 @@ class MapDirectoryTest : public ::testing::Test {
         map_.layers[f].steiner = true;
         map_.layers[f].evidence = Evidence::kInterpolated;
         map_.layers[f].height_uncertainty_m = INFINITY;
+        map_.layers[f].reasons = reason::kClosingGeometry;
       }
       if (v.x() >= 6 && v.x() < 7 && v.y() >= 2 && v.y() < 5) {
         map_.layers[f].face_class = FaceClass::kUncertain;
         map_.layers[f].cost = 0.9f;
         map_.layers[f].evidence = Evidence::kInterpolated;
         map_.layers[f].height_uncertainty_m = 0.3f;
+        map_.layers[f].reasons = reason::kPossibleStep | reason::kWorstCaseRelief;
       }
     }
     map_.mesh.is_steiner.assign(map_.mesh.vertices.size(), 0);
@@ -330,20 +335,15 @@ TEST_F(MapDirectoryTest, RoundTripPreservesMeshLayersNanAndFrame) {
   ASSERT_EQ(m.mesh.faces, map_.mesh.faces);
   EXPECT_EQ(m.mesh.is_steiner, map_.mesh.is_steiner);
   for (std::size_t v = 0; v < m.mesh.vertices.size(); ++v) EXPECT_EQ(m.mesh.vertices[v], map_.mesh.vertices[v]);
-  const auto same = [](float a, float b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
+  const auto same = [](double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
   std::size_t unknown = 0, uncertain = 0;
   for (std::size_t f = 0; f < m.layers.size(); ++f) {
     const FaceLayers &a = m.layers[f], &b = map_.layers[f];
     EXPECT_EQ(a.face_class, b.face_class) << f;
-    EXPECT_TRUE(same(a.cost, b.cost)) << f;
-    EXPECT_TRUE(same(a.slope_deg, b.slope_deg) && same(a.step_m, b.step_m) && same(a.roughness_m, b.roughness_m) &&
-                same(a.contact, b.contact) && same(a.contact_best, b.contact_best) &&
-                same(a.clearance_m, b.clearance_m) && same(a.lethal_distance_m, b.lethal_distance_m))
-        << f;
-    EXPECT_EQ(a.rays, b.rays);
+    for (const LayerInfo& layer : faceLayerRegistry()) {
+      EXPECT_TRUE(same(layer.get(a), layer.get(b))) << "face " << f << ", " << layer.name;
+    }
     EXPECT_EQ(a.steiner, b.steiner);
-    EXPECT_EQ(a.evidence, b.evidence) << f;
-    EXPECT_TRUE(same(a.height_uncertainty_m, b.height_uncertainty_m)) << f;
     unknown += a.face_class == FaceClass::kUnknown;
     uncertain += a.face_class == FaceClass::kUncertain;
   }
@@ -431,9 +431,14 @@ TEST_F(MapDirectoryTest, GeoTiffHasNamedBandsNanNodataAndTheLayerValues) {
     const std::string name = "layers_level_" + std::to_string(level) + ".tif";
     GDALDatasetH tif = GDALOpen((dir_ / name).c_str(), GA_ReadOnly);
     ASSERT_NE(tif, nullptr);
-    const std::vector<std::string> bands = {"cost",    "class",       "slope_deg", "step_m",   "roughness_m",
-                                            "contact", "clearance_m", "rays",      "height_m", "evidence",
-                                            "height_uncertainty_m"};
+    // The cost, the class, every other layer of the registry in its order, the height.
+    const std::vector<std::string> bands = {"cost",         "class",        "slope_deg",   "step_m",
+                                            "roughness_m",  "contact",      "contact_best", "clearance_m",
+                                            "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
+                                            "reasons",      "height_m"};
+    const auto bandOf = [&bands](const std::string& band_name) {
+      return static_cast<int>(std::find(bands.begin(), bands.end(), band_name) - bands.begin()) + 1;
+    };
     ASSERT_EQ(GDALGetRasterCount(tif), static_cast<int>(bands.size()));
     double transform[6];
     ASSERT_EQ(GDALGetGeoTransform(tif, transform), CE_None);
@@ -458,19 +463,21 @@ TEST_F(MapDirectoryTest, GeoTiffHasNamedBandsNanNodataAndTheLayerValues) {
     EXPECT_FLOAT_EQ(value(1, 15.55, 7.55), 0.2f);
     EXPECT_EQ(value(2, 15.55, 7.55), 0.0f);
     EXPECT_EQ(value(3, 15.55, 7.55), 1.0f);
-    EXPECT_EQ(value(8, 15.55, 7.55), 7.0f);
-    EXPECT_NEAR(value(9, 15.55, 7.55), level == 0 ? 0.0 : 3.0, 1e-6);
+    EXPECT_EQ(value(bandOf("rays"), 15.55, 7.55), 7.0f);
+    EXPECT_NEAR(value(bandOf("height_m"), 15.55, 7.55), level == 0 ? 0.0 : 3.0, 1e-6);
     if (level == 0) {
       EXPECT_EQ(value(2, 2.55, 3.55), 1.0f);  // lethal class
       EXPECT_TRUE(std::isnan(value(1, 4.55, 3.55)));  // unknown cost
       EXPECT_EQ(value(2, 4.55, 3.55), 2.0f);
       EXPECT_EQ(value(2, 6.55, 3.55), 3.0f);  // uncertain class
       EXPECT_FLOAT_EQ(value(1, 6.55, 3.55), 0.9f);
-      EXPECT_EQ(value(10, 6.55, 3.55), 2.0f);  // interpolated
-      EXPECT_FLOAT_EQ(value(11, 6.55, 3.55), 0.3f);
+      EXPECT_EQ(value(bandOf("evidence"), 6.55, 3.55), 2.0f);  // interpolated
+      EXPECT_FLOAT_EQ(value(bandOf("height_uncertainty_m"), 6.55, 3.55), 0.3f);
+      EXPECT_EQ(value(bandOf("reasons"), 6.55, 3.55), 80.0f);  // possible step + worst case does not fit
+      EXPECT_EQ(value(bandOf("reasons"), 2.55, 3.55), 1.0f);   // too steep
     }
-    EXPECT_EQ(value(10, 15.55, 7.55), 0.0f);  // measured
-    EXPECT_FLOAT_EQ(value(11, 15.55, 7.55), 0.04f);
+    EXPECT_EQ(value(bandOf("evidence"), 15.55, 7.55), 0.0f);  // measured
+    EXPECT_FLOAT_EQ(value(bandOf("height_uncertainty_m"), 15.55, 7.55), 0.04f);
     GDALClose(tif);
   }
 }

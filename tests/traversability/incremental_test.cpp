@@ -10,6 +10,7 @@
 
 #include "mesher/mesher.h"
 #include "test_support/traversability_scenes.h"
+#include "traversability/layer_registry.h"
 #include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
@@ -22,29 +23,24 @@ using FaceMap = std::map<FaceKey, SurfaceFace>;
 
 const std::filesystem::path kRobots = std::filesystem::path(TERRAMESH_SOURCE_DIR) / "traversability" / "robots";
 
-bool same(float a, float b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
-
-/// Every layer of every face equal (NaN equal to NaN); reports the first difference.
+/// Every registry layer of every face equal (NaN equal to NaN), and the class and Steiner flag;
+/// reports the first difference.
 ::testing::AssertionResult sameLayers(const LayeredMesh& a, const LayeredMesh& b) {
   if (a.face_keys != b.face_keys) return ::testing::AssertionFailure() << "different faces";
   for (std::size_t f = 0; f < a.layers.size(); ++f) {
     const FaceLayers& x = a.layers[f];
     const FaceLayers& y = b.layers[f];
-    const bool equal = same(x.slope_deg, y.slope_deg) && same(x.step_m, y.step_m) &&
-                       same(x.roughness_m, y.roughness_m) && same(x.contact, y.contact) &&
-                       same(x.contact_best, y.contact_best) && same(x.clearance_m, y.clearance_m) &&
-                       same(x.lethal_distance_m, y.lethal_distance_m) && x.rays == y.rays &&
-                       x.steiner == y.steiner && x.face_class == y.face_class && same(x.cost, y.cost) &&
-                       x.evidence == y.evidence && same(x.height_uncertainty_m, y.height_uncertainty_m);
-    if (!equal) {
-      return ::testing::AssertionFailure()
-             << "face " << f << " of " << a.layers.size() << ": slope " << x.slope_deg << "/" << y.slope_deg
-             << " step " << x.step_m << "/" << y.step_m << " rough " << x.roughness_m << "/" << y.roughness_m
-             << " contact " << x.contact << "/" << y.contact << " clearance " << x.clearance_m << "/"
-             << y.clearance_m << " distance " << x.lethal_distance_m << "/" << y.lethal_distance_m << " rays "
-             << x.rays << "/" << y.rays << " class " << int(x.face_class) << "/" << int(y.face_class) << " cost "
-             << x.cost << "/" << y.cost << " evidence " << int(x.evidence) << "/" << int(y.evidence)
-             << " uncertainty " << x.height_uncertainty_m << "/" << y.height_uncertainty_m;
+    if (x.face_class != y.face_class || x.steiner != y.steiner) {
+      return ::testing::AssertionFailure() << "face " << f << " of " << a.layers.size() << ": class "
+                                           << int(x.face_class) << "/" << int(y.face_class) << " steiner "
+                                           << x.steiner << "/" << y.steiner;
+    }
+    for (const LayerInfo& layer : faceLayerRegistry()) {
+      const double u = layer.get(x), v = layer.get(y);
+      if (!((std::isnan(u) && std::isnan(v)) || u == v)) {
+        return ::testing::AssertionFailure() << "face " << f << " of " << a.layers.size() << ": " << layer.name
+                                             << " " << u << "/" << v;
+      }
     }
   }
   return ::testing::AssertionSuccess();
@@ -441,7 +437,9 @@ void streamScene(const std::vector<mesher::Keyframe>& keyframes, const RobotProf
     revision = mesher.revision();
     reobserved += stats.faces_reobserved;
     ++updates;
+    // From scratch with the same unconfirmed points (update() reads them from the mesher).
     TraversabilityMap fresh(profile, MapFrame{});
+    fresh.setUnconfirmedPoints(mesher.unconfirmedPoints());
     fresh.reset(mesher.surfaceFaces());
     const LayeredMesh expected = fresh.snapshot();
     ASSERT_TRUE(sameLayers(map.snapshot(), expected)) << "after keyframe " << keyframe.id.value;

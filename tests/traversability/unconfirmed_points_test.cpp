@@ -11,6 +11,7 @@
 #include "mesher/checkpoint.h"
 #include "mesher/mesher.h"
 #include "test_support/traversability_scenes.h"
+#include "traversability/layer_registry.h"
 #include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
@@ -155,6 +156,10 @@ TEST(UnconfirmedPointsTest, APointInsideTheBodyMakesTheFloorAroundItUncertainNev
     if (distance > reach + 0.01 && distance < 3) EXPECT_EQ(face_class, FaceClass::kFree) << distance;
   }
   EXPECT_GT(uncertain, 20u);
+  // And they say why: that point, nothing else.
+  for (const auto& [key, layers] : layersByKey(map)) {
+    if (layers.face_class == FaceClass::kUncertain) EXPECT_EQ(layers.reasons, reason::kUnconfirmedPoint);
+  }
 
   // The same map made from scratch with the point: identical layers (the update is exact).
   TraversabilityMap fresh(profile, MapFrame{});

@@ -16,6 +16,7 @@
 #include "datasets/slam_stream.h"
 #include "run_extras.h"
 #include "test_support/temp_dir.h"
+#include "traversability/layer_registry.h"
 #include "view_server.h"
 
 namespace terramesh::cli {
@@ -68,6 +69,16 @@ TEST(RunManifest, ListsWhatTheRunHolds) {
   ASSERT_EQ(manifest["snapshots"].size(), 2u);
   EXPECT_EQ(manifest["snapshots"][0]["keyframe"], 4);
   EXPECT_EQ(manifest["snapshots"][1]["url"], "run/snapshots/mesh_000012.ply");
+  // The layers the viewer labels: the registry's, in its order, with their fixed ranges.
+  const std::vector<traversability::LayerInfo>& registry = traversability::faceLayerRegistry();
+  ASSERT_EQ(manifest["layers"].size(), registry.size());
+  for (std::size_t i = 0; i < registry.size(); ++i) {
+    EXPECT_EQ(manifest["layers"][i]["name"], registry[i].name);
+    EXPECT_EQ(manifest["layers"][i]["description"], registry[i].description);
+  }
+  EXPECT_EQ(manifest["layers"][0]["name"], "cost");
+  EXPECT_EQ(manifest["layers"][0]["range"], nlohmann::json({0.0, 1.0}));
+  EXPECT_FALSE(manifest["layers"][1].contains("range")) << "slope_deg takes the data's range";
 }
 
 TEST(OctomapVoxels, OccupiedLeavesWithCentresAndSizes) {

@@ -1,4 +1,5 @@
 #include "layer_computer.h"
+#include "traversability/layer_registry.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -521,12 +522,18 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   double worst_contact = 1.0, best_contact = 0.0;
   bool first = true;
   bool fits_worst = false;
+  std::uint16_t worst_case_reasons = 0;
   for (std::size_t k = 0; k < heading_samples_.size(); ++k) {
     HeadingResult h = judgeHeading(heading_samples_[k], ref_a, ref_b, steep, store.geometry(s).relief_m, driven);
     // An obstacle inside the footprint: the body collides, the heading does not fit; its top
     // above the plane counts as a step (the highest the robot would have to climb there).
     const double top = tops[k];
-    h.fits_worst = h.fits_worst && top <= 0 && !possible_[k];
+    // What fails the worst case where the robot fits as reconstructed.
+    if (h.fits && top <= 0) {
+      worst_case_reasons |= possible_[k];
+      if (!h.fits_worst) worst_case_reasons |= reason::kWorstCaseRelief;
+    }
+    h.fits_worst = h.fits_worst && top <= 0 && possible_[k] == 0;
     fits_worst = fits_worst || h.fits_worst;
     if (top > 0) {
       h.fits = false;
@@ -542,6 +549,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   }
   f.footprint_fits = best.fits;
   f.footprint_fits_worst = fits_worst;
+  f.worst_case_reasons = fits_worst ? 0 : worst_case_reasons;
   const SlopeSupport support = slopeSupport(store, s);
   f.rise_confirmed = support.rise_confirmed;
   f.slope_extent_m = static_cast<float>(support.extent_m);

@@ -148,11 +148,14 @@ class LayerComputer {
 
   /// Whether known face layers make a face lethal: too steep (see docs for the step-riser rule)
   /// on measured evidence, too low a clearance, or the footprint fits at no heading.
-  bool lethal(const StoredFace& face) const;
-  /// Whether a known face that is not lethal is uncertain: the evidence cannot decide (an
-  /// interpolated face too steep, a possible step, a slope that may exceed max_slope, a footprint
-  /// that fits only as reconstructed, an unknown ceiling lower than the robot).
-  bool uncertain(const StoredFace& face) const;
+  bool lethal(const StoredFace& face) const { return lethalReasons(face) != 0; }
+  /// The reason:: bits of the lethal rules that hold for a known face (0: not lethal).
+  std::uint16_t lethalReasons(const StoredFace& face) const;
+  /// The reason:: bits of the uncertain rules that hold for a known face that is not lethal (0:
+  /// not uncertain): the evidence cannot decide (an interpolated face too steep, a possible step,
+  /// a slope that may exceed max_slope, a footprint that fits only as reconstructed, an unknown
+  /// ceiling lower than the robot).
+  std::uint16_t uncertainReasons(const StoredFace& face) const;
   /// Whether a face no steeper than max_slope could be steeper in the worst case: its slope with
   /// the points at either end off by their noise (evidence.point_noise_m) in opposite directions,
   /// over the extent along the slope that measured points confirm (slopeSupport), but at least
@@ -200,6 +203,8 @@ class LayerComputer {
     bool possible = false;
     /// How far a measured obstacle may extend beyond its face (EvidenceModel::obstacle_extension).
     double extension_m = 0;
+    /// An unconfirmed SLAM point (collectUnconfirmed), grown by its extension.
+    bool unconfirmed = false;
     /// A part beyond a side of the strip a drive swept (addUnsweptParts): it lies where
     /// side_normal . p >= side_offset (p relative to the centroid), and neither it nor its
     /// extension reaches a footprint that stays on the strip's side of that line (the drive shows
@@ -219,8 +224,9 @@ class LayerComputer {
   void collectSupportedParts(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b) const;
   /// Per heading, the top of the highest measured obstacle (obstacles_) the footprint meets, 0 if
   /// none, for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp); and in
-  /// possible_, per heading, whether the footprint at the centroid meets a possible obstacle or
-  /// the possible extension of a measured one.
+  /// possible_, per heading, the reason:: bits of the possible obstacles the footprint at the
+  /// centroid meets (interpolated ones, the possible extension of measured ones, unconfirmed
+  /// points; 0: none).
   const std::vector<double>& obstacleTops(const StoredFace& f, bool steep,
                                           std::array<Eigen::Vector2d, kObstaclePoints>& points) const;
   /// Whether the footprint centred at `at` (relative to the centroid) at heading k, grown by
@@ -337,7 +343,7 @@ class LayerComputer {
   mutable std::vector<SampleTerms> terms_;
   mutable std::vector<Obstacle> obstacles_;
   mutable std::vector<double> tops_;
-  mutable std::vector<char> possible_;
+  mutable std::vector<std::uint16_t> possible_;
   mutable std::vector<Slot> neighbours_;
   const UnconfirmedPoints* unconfirmed_ = nullptr;
 };

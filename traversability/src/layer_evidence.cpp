@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "layer_computer.h"
+#include "traversability/layer_registry.h"
 
 namespace terramesh::traversability::internal {
 namespace {
@@ -106,7 +107,7 @@ LayerComputer::SlopeSupport LayerComputer::slopeSupport(const SurfaceStore& stor
   return out;
 }
 
-bool LayerComputer::lethal(const StoredFace& face) const {
+std::uint16_t LayerComputer::lethalReasons(const StoredFace& face) const {
   const FaceLayers& l = face.layers;
   // A steep face no taller than max_step_m between level ground (at least half of its footprint
   // samples on faces no steeper than max_slope: not a steep ramp) is the riser of a step: the
@@ -116,9 +117,12 @@ bool LayerComputer::lethal(const StoredFace& face) const {
   const bool steep = !(l.slope_deg <= profile_.max_slope_deg);
   // Only measured (or driven) geometry is lethal by itself: an interpolated wall is a guess, and
   // whether a robot fits on a wall says nothing (uncertain judges it).
-  if (steep && l.evidence == Evidence::kInterpolated) return false;
-  const bool too_steep = steep && !riser;
-  return too_steep || !face.footprint_fits || l.clearance_m < profile_.min_clearance_m;
+  if (steep && l.evidence == Evidence::kInterpolated) return 0;
+  std::uint16_t reasons = 0;
+  if (steep && !riser) reasons |= reason::kTooSteep;
+  if (!face.footprint_fits) reasons |= reason::kNoHeadingFits;
+  if (l.clearance_m < profile_.min_clearance_m) reasons |= reason::kLowClearance;
+  return reasons;
 }
 
 bool LayerComputer::slopeMayExceed(const StoredFace& face) const {
@@ -132,7 +136,7 @@ bool LayerComputer::slopeMayExceed(const StoredFace& face) const {
   return gradient > std::tan(profile_.max_slope_deg * M_PI / 180.0);
 }
 
-bool LayerComputer::uncertain(const StoredFace& face) const {
+std::uint16_t LayerComputer::uncertainReasons(const StoredFace& face) const {
   const FaceLayers& l = face.layers;
   const bool interpolated = l.evidence == Evidence::kInterpolated;
   const bool steep = !(l.slope_deg <= profile_.max_slope_deg);
@@ -140,25 +144,39 @@ bool LayerComputer::uncertain(const StoredFace& face) const {
   // it, it is no ramp (unless driven, or the plane is confirmed beyond it along the slope).
   const bool possible_step = l.evidence != Evidence::kDriven && !steep &&
                              (interpolated ? face.max_z - face.min_z > profile_.max_step_m : !face.rise_confirmed);
-  return (interpolated && steep) || possible_step || slopeMayExceed(face) || !face.footprint_fits_worst ||
-         face.clearance_unknown_low;
+  std::uint16_t reasons = 0;
+  if (interpolated && steep) reasons |= reason::kGuessedWall;
+  if (possible_step) reasons |= reason::kPossibleStep;
+  if (slopeMayExceed(face)) reasons |= reason::kSlopeMayExceed;
+  // Fits at no heading in the worst case; the causes where it fits as built (kWorstCaseRelief
+  // when no heading fits as built either: the face is then lethal unless that is interpolation).
+  if (!face.footprint_fits_worst) {
+    reasons |= face.worst_case_reasons != 0 ? face.worst_case_reasons : reason::kWorstCaseRelief;
+  }
+  if (face.clearance_unknown_low) reasons |= reason::kUnknownLowClearance;
+  return reasons;
 }
 
 void LayerComputer::classify(StoredFace& face) const {
   FaceLayers& l = face.layers;
-  if (face.steiner || l.rays < static_cast<std::uint32_t>(profile_.min_rays)) {
+  const bool few_rays = l.rays < static_cast<std::uint32_t>(profile_.min_rays);
+  if (face.steiner || few_rays) {
     l.face_class = FaceClass::kUnknown;
     l.cost = std::numeric_limits<float>::quiet_NaN();
+    l.reasons = static_cast<std::uint16_t>((face.steiner ? reason::kClosingGeometry : 0) |
+                                           (few_rays ? reason::kFewRays : 0));
     return;
   }
-  if (lethal(face)) {
+  l.reasons = lethalReasons(face);
+  if (l.reasons != 0) {
     l.face_class = FaceClass::kLethal;
     l.cost = 1.0f;
     return;
   }
   const RobotProfile& p = profile_;
   const double inflation = profile_.inflationTerm(l.lethal_distance_m);
-  if (uncertain(face)) {
+  l.reasons = uncertainReasons(face);
+  if (l.reasons != 0) {
     l.face_class = FaceClass::kUncertain;
     l.cost = static_cast<float>(std::max(p.evidence.uncertain_cost, inflation));
     return;

@@ -9,6 +9,7 @@
 
 #include "face_projection.h"
 #include "layer_computer.h"
+#include "traversability/layer_registry.h"
 
 namespace terramesh::traversability::internal {
 namespace {
@@ -178,6 +179,7 @@ void LayerComputer::collectUnconfirmed(const StoredFace& f, double ref_a, double
     o.n = 1;
     o.top_m = std::min(p.z() - f.centroid_L.z(), profile_.min_clearance_m);
     o.possible = true;
+    o.unconfirmed = true;
     o.extension_m = profile_.evidence.unconfirmed_point_extension_m;
     obstacles_.push_back(o);
   });
@@ -253,8 +255,11 @@ const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool
   };
   // Possible obstacles at the centroid: interpolated ones, and where measured ones may extend.
   for (const Obstacle& o : obstacles_) {
+    const std::uint16_t cause = o.unconfirmed ? reason::kUnconfirmedPoint
+                                : o.possible  ? reason::kPossibleObstacle
+                                              : reason::kObstacleExtension;
     for (std::size_t k = 0; k < headings; ++k) {
-      if (!possible_[k] && meets(o, k, Eigen::Vector2d::Zero(), o.extension_m)) possible_[k] = 1;
+      if (!(possible_[k] & cause) && meets(o, k, Eigen::Vector2d::Zero(), o.extension_m)) possible_[k] |= cause;
     }
   }
   const int n = obstaclePoints(f, steep, points);

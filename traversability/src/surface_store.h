@@ -58,6 +58,9 @@ struct StoredFace {
   /// within the height uncertainty of the ground it stands on (unknown samples unsupported), away
   /// from possible obstacles (interpolated walls, the possible extension of measured ones).
   bool footprint_fits_worst = true;
+  /// When it does not: the reason:: bits of what fails the worst case at the headings that fit
+  /// as reconstructed (relief, possible obstacles, extensions, unconfirmed points).
+  std::uint16_t worst_case_reasons = 0;
   /// Set with the local layers: the first face above the centroid is closing geometry lower than
   /// the robot (the clearance cannot be known to suffice).
   bool clearance_unknown_low = false;

@@ -2,23 +2,22 @@
 // uncertain magenta) on top.
 import { LETHAL_RGB, RAMPS, STEINER_TINT, UNCERTAIN_RGB, UNKNOWN_RGB, rampColour } from './colormaps.js';
 
-/** Known layers of traversability.ply (docs/traversability.md); others get an automatic range. */
-const KNOWN = {
-  cost: { label: 'cost (0 free .. 1 limit)', ramp: 'cost', range: [0, 1] },
-  slope_deg: { label: 'slope (deg)' },
-  step_m: { label: 'step (m)' },
-  roughness_m: { label: 'roughness (m)' },
-  contact: { label: 'contact (fraction)' },
-  contact_best: { label: 'best contact (fraction)' },
-  clearance_m: { label: 'clearance (m; inf = nothing above)' },
-  lethal_distance_m: { label: 'distance to lethal (m)' },
-  rays: { label: 'observedness (rays through the face)' },
-  evidence: { label: 'evidence (0 measured, 1 driven, 2 interpolated)', range: [0, 2] },
-  height_uncertainty_m: { label: 'height uncertainty bound (m)' },
-  height: { label: 'height along up (map units)' },
-};
+/**
+ * The layers of traversability.ply as the server's registry describes them (manifest.layers:
+ * name, unit, description, optional fixed range; traversability/layer_registry.h), set once by
+ * setLayerRegistry. Layers it does not name get their own name and an automatic range.
+ */
+const KNOWN = { height: { label: 'height along up (map units)' } };
+/** The colour ramp of a layer, where it is not viridis. */
+const RAMP_OF = { cost: 'cost' };
 
-/** The layer names a mesh offers, in a useful order: known layers first, then height. */
+export function setLayerRegistry(layers) {
+  for (const layer of layers || []) {
+    KNOWN[layer.name] = { label: layer.description, ramp: RAMP_OF[layer.name], range: layer.range };
+  }
+}
+
+/** The layer names a mesh offers, in a useful order: registry layers first, then height. */
 export function layerNames(mesh) {
   const names = Object.keys(mesh.layers);
   const known = Object.keys(KNOWN).filter((k) => names.includes(k));

@@ -2,7 +2,7 @@
 // present, else mesh.ply), the overlays and the timing chart; the slider replays the snapshots.
 import './style.css';
 import GUI from 'lil-gui';
-import { colourFaces, layerLabel, layerNames } from './layers.js';
+import { colourFaces, layerLabel, layerNames, setLayerRegistry } from './layers.js';
 import { renderLegend } from './legend.js';
 import { SlamPoints, Trajectory, pathObject, voxelObject } from './overlays.js';
 import { RunLoader } from './run_loader.js';
@@ -33,6 +33,7 @@ class MeshCache {
 async function main() {
   const loader = new RunLoader();
   const manifest = await loader.manifest();
+  setLayerRegistry(manifest.layers);
   $('run-name').textContent = `terramesh view: ${manifest.run}`;
   document.title = `terramesh view: ${manifest.run}`;
   const finalUrl = manifest.traversability || manifest.mesh;

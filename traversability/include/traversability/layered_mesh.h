@@ -60,6 +60,9 @@ struct FaceLayers {
   /// Combined cost in [0, 1] for free faces; 1 for lethal; the profile's uncertain cost for
   /// uncertain faces; NaN for unknown.
   float cost = std::numeric_limits<float>::quiet_NaN();
+  /// Why the face is not free: the bits of `reason::` in traversability/layer_registry.h of its
+  /// class's rules that hold (0 for a free face).
+  std::uint16_t reasons = 0;
 };
 
 /// A snapshot of a traversability map: the mesh (map units) with every layer per face. What the

@@ -7,16 +7,25 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string_view>
 
 #include "export_writers.h"
 #include "plan_geometry.h"
+#include "traversability/layer_registry.h"
 
 namespace terramesh::traversability::internal {
 
 const std::vector<std::string>& geotiffBandNames() {
-  static const std::vector<std::string> kNames = {"cost",    "class",       "slope_deg", "step_m",   "roughness_m",
-                                                  "contact", "clearance_m", "rays",      "height_m", "evidence",
-                                                  "height_uncertainty_m"};
+  static const std::vector<std::string> kNames = [] {
+    // The cost, the class, every other registry layer in its order, then the height of the
+    // surface at the cell's centre.
+    std::vector<std::string> names = {"cost", "class"};
+    for (const LayerInfo& layer : faceLayerRegistry()) {
+      if (std::string_view(layer.name) != "cost") names.emplace_back(layer.name);
+    }
+    names.emplace_back("height_m");
+    return names;
+  }();
   return kNames;
 }
 
@@ -38,18 +47,14 @@ void writeLayerGeoTiff(const std::filesystem::path& path, const LevelGrid& grid,
       const FacePlan& face = plans[f];
       const Eigen::Vector2d centre(grid.origin_x_m + (static_cast<double>(col) + 0.5) * grid.resolution_m,
                                    grid.origin_y_m + (static_cast<double>(h - 1 - row) + 0.5) * grid.resolution_m);
-      const float values[] = {unknown ? kNaN : l.face_class == FaceClass::kLethal ? 1.0f : l.cost,
-                              static_cast<float>(static_cast<int>(l.face_class)),
-                              l.slope_deg,
-                              l.step_m,
-                              l.roughness_m,
-                              l.contact,
-                              l.clearance_m,
-                              static_cast<float>(l.rays),
-                              static_cast<float>(heightAt(face, centre)),
-                              static_cast<float>(static_cast<int>(l.evidence)),
-                              l.height_uncertainty_m};
-      for (std::size_t b = 0; b < bands; ++b) data[b * w * h + row * w + col] = values[b];
+      std::size_t b = 0;
+      const auto put = [&](double value) { data[b++ * w * h + row * w + col] = static_cast<float>(value); };
+      put(unknown ? kNaN : l.face_class == FaceClass::kLethal ? 1.0f : l.cost);
+      put(static_cast<int>(l.face_class));
+      for (const LayerInfo& layer : faceLayerRegistry()) {
+        if (std::string_view(layer.name) != "cost") put(layer.get(l));
+      }
+      put(heightAt(face, centre));
     }
   }
 

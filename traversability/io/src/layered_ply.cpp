@@ -2,33 +2,55 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "common/input_error.h"
 #include "common/ply.h"
 #include "export_writers.h"
+#include "traversability/layer_registry.h"
 
 namespace terramesh::traversability::internal {
 namespace {
 
 using ply::Type;
 
-/// The per-face float layers, in file order.
-struct FloatLayer {
-  const char* name;
-  float FaceLayers::*member;
-};
+Type plyType(LayerType type) {
+  switch (type) {
+    case LayerType::kUInt8: return Type::kUInt8;
+    case LayerType::kUInt16: return Type::kUInt16;
+    case LayerType::kUInt32: return Type::kUInt32;
+    case LayerType::kFloat32: break;
+  }
+  return Type::kFloat32;
+}
 
-constexpr FloatLayer kFloatLayers[] = {
-    {"slope_deg", &FaceLayers::slope_deg},     {"step_m", &FaceLayers::step_m},
-    {"roughness_m", &FaceLayers::roughness_m}, {"contact", &FaceLayers::contact},
-    {"contact_best", &FaceLayers::contact_best}, {"clearance_m", &FaceLayers::clearance_m},
-    {"lethal_distance_m", &FaceLayers::lethal_distance_m},
-};
+/// The largest value an integer layer's type holds (0 for float layers).
+double integerLimit(LayerType type) {
+  switch (type) {
+    case LayerType::kUInt8: return 255.0;
+    case LayerType::kUInt16: return 65535.0;
+    case LayerType::kUInt32: return 4294967295.0;
+    case LayerType::kFloat32: break;
+  }
+  return 0.0;
+}
 
-/// Read from files that have it (older maps do not: their faces keep the defaults).
-constexpr FloatLayer kOptionalFloatLayers[] = {
-    {"height_uncertainty_m", &FaceLayers::height_uncertainty_m},
-};
+/// A registry layer's value read from a file, checked: an integer layer holds an integer of its
+/// type; `evidence` one of its three codes.
+double checkedValue(const LayerInfo& layer, double value, const std::string& file, const std::string& where) {
+  const double limit = integerLimit(layer.type);
+  if (limit > 0 && !(value >= 0 && value <= limit && value == std::floor(value))) {
+    throw InputError(file, where,
+                     std::string(layer.name) + " " + std::to_string(value) + " (expected an integer in [0, " +
+                         std::to_string(static_cast<std::uint64_t>(limit)) + "])");
+  }
+  if (std::string_view(layer.name) == "evidence" && !(value == 0 || value == 1 || value == 2)) {
+    throw InputError(file, where, "evidence " + std::to_string(value) + " (expected 0 measured, 1 driven or 2 interpolated)");
+  }
+  return value;
+}
 
 const ply::Property& require(const ply::Element& element, const std::string& name, const std::string& file) {
   const ply::Property* property = element.find(name);
@@ -78,15 +100,11 @@ void writeLayeredPly(const std::filesystem::path& path, const LayeredMesh& map) 
          [&](std::size_t f) { return layers[f].face_class == FaceClass::kUnknown; });
   scalar(faces, "uncertain", Type::kUInt8, face_count,
          [&](std::size_t f) { return layers[f].face_class == FaceClass::kUncertain; });
-  for (const FloatLayer& layer : kFloatLayers) {
-    scalar(faces, layer.name, Type::kFloat32, face_count, [&](std::size_t f) { return layers[f].*layer.member; });
+  // Every registry layer but the cost, written first beside the class flags.
+  for (const LayerInfo& layer : faceLayerRegistry()) {
+    if (std::string_view(layer.name) == "cost") continue;
+    scalar(faces, layer.name, plyType(layer.type), face_count, [&](std::size_t f) { return layer.get(layers[f]); });
   }
-  for (const FloatLayer& layer : kOptionalFloatLayers) {
-    scalar(faces, layer.name, Type::kFloat32, face_count, [&](std::size_t f) { return layers[f].*layer.member; });
-  }
-  scalar(faces, "evidence", Type::kUInt8, face_count,
-         [&](std::size_t f) { return static_cast<int>(layers[f].evidence); });
-  scalar(faces, "rays", Type::kUInt32, face_count, [&](std::size_t f) { return layers[f].rays; });
   // What the evidence of a recomputation (another robot: plan --robot, traverse) starts from.
   const bool crossings = mesh.face_front_crossings.size() == face_count;
   if (crossings) {
@@ -124,13 +142,16 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
   const ply::Property& unknown = require(*faces, "unknown", file);
   const ply::Property& rays = require(*faces, "rays", file);
   const ply::Property& steiner = require(*faces, "steiner", file);
-  std::vector<const ply::Property*> float_layers;
-  for (const FloatLayer& layer : kFloatLayers) float_layers.push_back(&require(*faces, layer.name, file));
   const ply::Property* uncertain = faces->find("uncertain");
   const ply::Property* front_crossings = faces->find("front_crossings");
-  const ply::Property* evidence = faces->find("evidence");
-  std::vector<const ply::Property*> optional_layers;
-  for (const FloatLayer& layer : kOptionalFloatLayers) optional_layers.push_back(faces->find(layer.name));
+  // The registry's layers (the cost is read and checked with the class below); optional ones may
+  // be missing (older files): their faces keep the defaults.
+  std::vector<std::pair<const LayerInfo*, const ply::Property*>> registry_layers;
+  for (const LayerInfo& layer : faceLayerRegistry()) {
+    if (std::string_view(layer.name) == "cost") continue;
+    const ply::Property* property = layer.optional_in_files ? faces->find(layer.name) : &require(*faces, layer.name, file);
+    if (property && !property->isList()) registry_layers.emplace_back(&layer, property);
+  }
   mesh.faces.resize(faces->count);
   map.layers.resize(faces->count);
   for (std::size_t f = 0; f < faces->count; ++f) {
@@ -157,25 +178,12 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
     if (layers.face_class != FaceClass::kUnknown && !(layers.cost >= 0 && layers.cost <= 1)) {
       throw InputError(file, where, "cost must be in [0, 1] for a known face");
     }
-    for (std::size_t l = 0; l < float_layers.size(); ++l) {
-      layers.*kFloatLayers[l].member = static_cast<float>(float_layers[l]->values[f]);
-    }
-    for (std::size_t l = 0; l < optional_layers.size(); ++l) {
-      if (optional_layers[l] && !optional_layers[l]->isList()) {
-        layers.*kOptionalFloatLayers[l].member = static_cast<float>(optional_layers[l]->values[f]);
-      }
-    }
-    if (evidence && !evidence->isList()) {
-      const double e = evidence->values[f];
-      if (!(e == 0 || e == 1 || e == 2)) {
-        throw InputError(file, where, "evidence " + std::to_string(e) + " (expected 0 measured, 1 driven or 2 interpolated)");
-      }
-      layers.evidence = static_cast<Evidence>(static_cast<int>(e));
-    }
     if (!(rays.values[f] >= 0 && rays.values[f] <= 4294967295.0)) {
       throw InputError(file, where, "rays must be a count in [0, 2^32)");
     }
-    layers.rays = static_cast<std::uint32_t>(rays.values[f]);
+    for (const auto& [layer, property] : registry_layers) {
+      layer->set(layers, checkedValue(*layer, property->values[f], file, where));
+    }
     layers.steiner = steiner.values[f] != 0;
     if (front_crossings && !front_crossings->isList()) {
       const double c = front_crossings->values[f];

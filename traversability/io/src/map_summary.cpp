@@ -1,10 +1,12 @@
-// traversability_summary.txt: areas per level, layer statistics, face counts.
+// traversability_summary.txt: areas per level, layer statistics (every registry layer marked
+// in_summary), face counts, and faces per reason they are not free.
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
 #include "export_writers.h"
+#include "traversability/layer_registry.h"
 
 namespace terramesh::traversability::internal {
 namespace {
@@ -74,15 +76,21 @@ std::string mapSummary(const LayeredMesh& map, const Levels& levels, const std::
     if (l.face_class == FaceClass::kFree) free_cost.push_back(l.cost);
   }
   statsLine(out, "cost (free faces)", free_cost);
-  statsLine(out, "slope_deg", known([](const FaceLayers& l) { return l.slope_deg; }));
-  statsLine(out, "step_m", known([](const FaceLayers& l) { return l.step_m; }));
-  statsLine(out, "roughness_m", known([](const FaceLayers& l) { return l.roughness_m; }));
-  statsLine(out, "contact", known([](const FaceLayers& l) { return l.contact; }));
-  statsLine(out, "contact_best", known([](const FaceLayers& l) { return l.contact_best; }));
-  statsLine(out, "clearance_m", known([](const FaceLayers& l) { return l.clearance_m; }));
-  statsLine(out, "lethal_distance_m", known([](const FaceLayers& l) { return l.lethal_distance_m; }));
-  statsLine(out, "rays", known([](const FaceLayers& l) { return static_cast<float>(l.rays); }));
-  statsLine(out, "height_uncertainty_m", known([](const FaceLayers& l) { return l.height_uncertainty_m; }));
+  for (const LayerInfo& layer : faceLayerRegistry()) {
+    if (!layer.in_summary) continue;
+    statsLine(out, layer.name, known([&layer](const FaceLayers& l) { return static_cast<float>(layer.get(l)); }));
+  }
+  // Why faces are not free: per reason, the faces of each class whose rule it is.
+  out << "why not free (faces per reason; a face may have several):\n";
+  const std::vector<const char*>& names = reason::names();
+  for (std::size_t bit = 0; bit < names.size(); ++bit) {
+    std::size_t per_class[4] = {0, 0, 0, 0};
+    for (const FaceLayers& l : map.layers) per_class[static_cast<int>(l.face_class)] += (l.reasons >> bit) & 1u;
+    const std::size_t faces = per_class[1] + per_class[2] + per_class[3];
+    if (faces == 0) continue;
+    out << "  " << std::left << std::setw(22) << names[bit] << std::right << ' ' << faces << " ("
+        << (per_class[1] > 0 ? "lethal" : per_class[3] > 0 ? "uncertain" : "unknown") << ")\n";
+  }
   return out.str();
 }
 
