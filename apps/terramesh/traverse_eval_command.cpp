@@ -25,6 +25,7 @@
 #include "evaluation/traversability_score.h"
 #include "evaluation/truth_checker.h"
 #include "mesher/mesh_io.h"
+#include "traversability/layer_registry.h"
 #include "traversability/map_directory.h"
 
 namespace terramesh::cli {
@@ -113,6 +114,16 @@ void reportAreas(std::ostream& out, const std::string& prefix, const evaluation:
       << prefix << "_lethal_m2 " << fixed(areas.lethal_m2, 3) << '\n'
       << prefix << "_unknown_m2 " << fixed(areas.unknown_m2, 3) << '\n'
       << prefix << "_uncertain_m2 " << fixed(areas.uncertain_m2, 3) << '\n';
+}
+
+/// One line per reason bit (traversability/layer_registry.h): the share under the path whose map
+/// face has it, e.g. "road_reason_possible_step_fraction 0.0123".
+void reportReasons(std::ostream& out, const std::string& prefix,
+                   const std::array<double, traversability::reason::kCount>& fractions) {
+  const std::vector<const char*>& names = traversability::reason::names();
+  for (std::size_t b = 0; b < fractions.size(); ++b) {
+    out << prefix << "_reason_" << names[b] << "_fraction " << fixed(fractions[b]) << '\n';
+  }
 }
 
 void reportRobot(std::ostream& out, const evaluation::RobotLimits& robot) {
@@ -318,6 +329,7 @@ void reportGroundUnderPath(const TraverseEvalOptions& options, const traversabil
          << "lidar_free_height_median_m " << fixed(g.free_height_median_m) << '\n'
          << "lidar_free_height_p90_m " << fixed(g.free_height_p90_m) << '\n'
          << "lidar_height_median_m " << fixed(g.height_median_m) << '\n';
+  reportReasons(report, "lidar", g.reason_fraction);
 }
 
 /// The map's classes on the road under the camera path (real data).
@@ -360,6 +372,7 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
          << "road_lethal_fraction " << fixed(road.lethal_fraction) << '\n'
          << "road_unknown_fraction " << fixed(road.unknown_fraction) << '\n'
          << "road_uncertain_fraction " << fixed(road.uncertain_fraction) << '\n';
+  reportReasons(report, "road", road.reason_fraction);
   if (truth_m) {
     report << "road_free_truth_distance_median_m " << fixed(road.free_truth_distance_median_m) << '\n'
            << "road_free_truth_distance_p90_m " << fixed(road.free_truth_distance_p90_m) << '\n';

@@ -1,6 +1,7 @@
 #include "evaluation/road_under_path.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -14,6 +15,13 @@ namespace terramesh::evaluation {
 namespace {
 
 double ratio(double num, double den) { return den > 0 ? num / den : std::numeric_limits<double>::quiet_NaN(); }
+
+/// Adds `weight` to the total of every reason bit set in `reasons`.
+void addReasons(std::uint16_t reasons, double weight, std::array<double, traversability::reason::kCount>& totals) {
+  for (std::size_t b = 0; b < totals.size(); ++b) {
+    if ((reasons >> b) & 1u) totals[b] += weight;
+  }
+}
 
 /// The value below which `share` of the total weight lies ((value, weight) pairs; NaN if empty).
 double weightedQuantile(std::vector<std::pair<double, double>> values, double share) {
@@ -118,6 +126,7 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
   const std::unique_ptr<datasets::TriangleBvh> truth =
       truth_m && !truth_m->faces.empty() ? std::make_unique<datasets::TriangleBvh>(*truth_m) : nullptr;
   std::vector<std::pair<double, double>> free_distances;
+  std::array<double, traversability::reason::kCount> reason_m2{};
   for (std::size_t p = 0; p < pieces.mesh.faces.size(); ++p) {
     const Eigen::Vector3d centroid = faceCentroid(pieces.mesh, p);
     const PathFoot foot = nearestOnPath(path, up, centroid);
@@ -127,6 +136,7 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
     const double below = up.dot(best_point - centroid);
     if (std::abs(below - config.camera_height_m) > config.height_tolerance_m) continue;
     const double area = faceArea(pieces.mesh, p);
+    addReasons(map.layers[pieces.parent_face[p]].reasons, area, reason_m2);
     switch (map.layers[pieces.parent_face[p]].face_class) {
       case traversability::FaceClass::kFree:
         out.areas.free_m2 += area;
@@ -141,6 +151,7 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
   out.lethal_fraction = ratio(out.areas.lethal_m2, out.areas.total());
   out.unknown_fraction = ratio(out.areas.unknown_m2, out.areas.total());
   out.uncertain_fraction = ratio(out.areas.uncertain_m2, out.areas.total());
+  for (std::size_t b = 0; b < reason_m2.size(); ++b) out.reason_fraction[b] = ratio(reason_m2[b], out.areas.total());
   out.free_truth_distance_median_m = weightedQuantile(free_distances, 0.5);
   out.free_truth_distance_p90_m = weightedQuantile(free_distances, 0.9);
   return out;
@@ -158,6 +169,7 @@ GroundUnderPath groundUnderPath(const traversability::LayeredMesh& map, const st
       metric.faces.empty() ? nullptr : std::make_unique<datasets::TriangleBvh>(metric);
   GroundUnderPath out;
   std::vector<std::pair<double, double>> free_heights, heights;
+  std::array<double, traversability::reason::kCount> reason_points{};
   // Which 0.5 m stretches of the path have ground beside them.
   constexpr double kStretchM = 0.5;
   std::vector<std::vector<char>> covered(path.size());
@@ -184,6 +196,7 @@ GroundUnderPath groundUnderPath(const traversability::LayeredMesh& map, const st
       continue;
     }
     heights.emplace_back(hit->distance, 1.0);
+    addReasons(map.layers[hit->face].reasons, 1.0, reason_points);
     switch (map.layers[hit->face].face_class) {
       case traversability::FaceClass::kFree:
         ++out.free;
@@ -200,6 +213,7 @@ GroundUnderPath groundUnderPath(const traversability::LayeredMesh& map, const st
   out.unknown_fraction = ratio(static_cast<double>(out.unknown), n);
   out.uncertain_fraction = ratio(static_cast<double>(out.uncertain), n);
   out.missing_fraction = ratio(static_cast<double>(out.missing), n);
+  for (std::size_t b = 0; b < reason_points.size(); ++b) out.reason_fraction[b] = ratio(reason_points[b], n);
   out.free_height_median_m = weightedQuantile(free_heights, 0.5);
   out.free_height_p90_m = weightedQuantile(free_heights, 0.9);
   out.height_median_m = weightedQuantile(heights, 0.5);

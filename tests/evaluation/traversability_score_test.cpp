@@ -169,6 +169,10 @@ TEST(RoadUnderPath, FractionsOfTheRoadUnderTheCamera) {
     traversability::FaceLayers layers;
     const bool upper = f >= map.mesh.faces.size() - 2;
     layers.face_class = upper ? FaceClass::kUnknown : (y >= -1 && y < 1 ? FaceClass::kFree : FaceClass::kLethal);
+    // The lethal faces say why: too steep on one side, no heading fits on the other.
+    if (layers.face_class == FaceClass::kLethal) {
+      layers.reasons = y < 0 ? traversability::reason::kTooSteep : traversability::reason::kNoHeadingFits;
+    }
     map.layers.push_back(layers);
   }
   const std::vector<Eigen::Vector3d> path = {{5 / 0.5, 0, 0}, {10 / 0.5, 0, 0}, {15 / 0.5, 0, 0}};
@@ -179,6 +183,13 @@ TEST(RoadUnderPath, FractionsOfTheRoadUnderTheCamera) {
   EXPECT_GT(road.free_fraction, 0.6);
   EXPECT_LT(road.free_fraction, 0.75);
   EXPECT_NEAR(road.free_fraction + road.lethal_fraction, 1.0, 1e-12);
+  // Each lethal side is half the lethal area, and no other reason appears.
+  const auto bit = [](std::uint16_t reason) { return static_cast<std::size_t>(std::log2(reason)); };
+  EXPECT_NEAR(road.reason_fraction[bit(traversability::reason::kTooSteep)], 0.5 * road.lethal_fraction, 1e-9);
+  EXPECT_NEAR(road.reason_fraction[bit(traversability::reason::kNoHeadingFits)], 0.5 * road.lethal_fraction, 1e-9);
+  double reasons = 0;
+  for (double fraction : road.reason_fraction) reasons += fraction;
+  EXPECT_NEAR(reasons, road.lethal_fraction, 1e-9);
   RoadUnderPathConfig whole;
   whole.sample_edge_m = 0;
   EXPECT_THROW(roadUnderPath(map, {path[0]}, Eigen::Vector3d::UnitZ(), whole), std::invalid_argument);
@@ -202,6 +213,7 @@ TEST(GroundUnderPath, MeasuredGroundUnderThePathTakesTheMapFaceOverIt) {
     traversability::FaceLayers layers;
     const double y = (map.mesh.vertices[face[0]] + map.mesh.vertices[face[1]] + map.mesh.vertices[face[2]]).y() / 3;
     layers.face_class = y < 0 ? FaceClass::kFree : FaceClass::kLethal;
+    layers.reasons = y < 0 ? 0 : traversability::reason::kLowClearance;
     map.layers.push_back(layers);
   }
   std::vector<Eigen::Vector3d> ground;
@@ -225,6 +237,8 @@ TEST(GroundUnderPath, MeasuredGroundUnderThePathTakesTheMapFaceOverIt) {
   EXPECT_NEAR(static_cast<double>(g.missing), 200.0, 25.0);
   EXPECT_NEAR(g.free_fraction, g.lethal_fraction, 0.02);
   EXPECT_NEAR(g.free_fraction + g.lethal_fraction + g.missing_fraction, 1.0, 1e-12);
+  EXPECT_NEAR(g.reason_fraction[2], g.lethal_fraction, 1e-12) << "bit 2: low clearance, every lethal point";
+  EXPECT_EQ(g.reason_fraction[0], 0.0);
   EXPECT_NEAR(g.free_height_median_m, 0.05, 1e-9);
   EXPECT_NEAR(g.height_median_m, 0.05, 1e-9);
   EXPECT_NEAR(g.covered_path_m, 10.0, 0.6);

@@ -2,10 +2,12 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <limits>
 #include <vector>
 
 #include "evaluation/traversability_score.h"
+#include "traversability/layer_registry.h"
 #include "traversability/layered_mesh.h"
 
 namespace terramesh::evaluation {
@@ -35,6 +37,9 @@ struct RoadUnderPath {
   double lethal_fraction = 0;
   double unknown_fraction = 0;
   double uncertain_fraction = 0;
+  /// Per bit of traversability::reason (FaceLayers::reasons): the share of areas.total() whose
+  /// face has it (why the road under the path is not free; NaN if nothing lies under the path).
+  std::array<double, traversability::reason::kCount> reason_fraction{};
   /// With a truth surface: the distance (metres) from the free pieces under the path to it,
   /// median and 90th percentile, area-weighted; NaN without a truth or with no free piece.
   double free_truth_distance_median_m = std::numeric_limits<double>::quiet_NaN();
@@ -57,6 +62,8 @@ struct GroundUnderPath {
   double unknown_fraction = std::numeric_limits<double>::quiet_NaN();
   double uncertain_fraction = std::numeric_limits<double>::quiet_NaN();
   double missing_fraction = std::numeric_limits<double>::quiet_NaN();
+  /// Per bit of traversability::reason: the share of `points` under a face that has it.
+  std::array<double, traversability::reason::kCount> reason_fraction{};
   /// Vertical distance (metres) from the ground points to the map surface over them: at the free
   /// ones (median, 90th percentile) and at all with a surface (median); NaN if none.
   double free_height_median_m = std::numeric_limits<double>::quiet_NaN();

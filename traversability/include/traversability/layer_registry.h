@@ -5,6 +5,7 @@
 // the GeoTIFF bands, the mesh_navigation HDF5's own layers), the summary, the incremental tests and
 // the viewer (served as JSON by `terramesh view`) iterate. Adding a layer is one FaceLayers field,
 // the stage that computes it, and one entry here.
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -63,7 +64,9 @@ inline constexpr std::uint16_t kUnconfirmedPoint = 1u << 9;    ///< a point too 
 inline constexpr std::uint16_t kUnknownLowClearance = 1u << 10; ///< uncertain: closing geometry above, too low
 inline constexpr std::uint16_t kClosingGeometry = 1u << 11;    ///< unknown: touches a Steiner vertex
 inline constexpr std::uint16_t kFewRays = 1u << 12;            ///< unknown: observed by fewer than min_rays rays
-/// Names of the bits, lowest first ("too_steep", ...).
+/// How many bits there are.
+inline constexpr std::size_t kCount = 13;
+/// Names of the bits, lowest first ("too_steep", ...): kCount of them.
 const std::vector<const char*>& names();
 }  // namespace reason
 
