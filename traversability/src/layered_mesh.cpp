@@ -10,7 +10,13 @@ std::vector<float> LayeredMesh::vertexWorst(const std::function<float(const Face
     const float x = value(layers[f]);
     if (std::isnan(x)) continue;
     for (std::uint32_t v : mesh.faces[f]) {
-      if (std::isnan(result[v]) || (worst == Worst::kHighest ? x > result[v] : x < result[v])) result[v] = x;
+      if (std::isnan(result[v])) {
+        result[v] = x;
+      } else if (worst == Worst::kBitwiseOr) {
+        result[v] = static_cast<float>(static_cast<std::uint32_t>(result[v]) | static_cast<std::uint32_t>(x));
+      } else if (worst == Worst::kHighest ? x > result[v] : x < result[v]) {
+        result[v] = x;
+      }
     }
   }
   return result;

@@ -37,6 +37,8 @@ struct LayerInfo {
   float display_max;
   /// Statistics over known faces in traversability_summary.txt.
   bool in_summary;
+  /// A per-vertex layer of its own in traversability.h5 (beside those under mesh_map's names).
+  bool in_mesh_map;
 };
 
 /// Every per-face layer, in the order traversability.ply writes them after the class flags (and

@@ -78,8 +78,9 @@ struct LayeredMesh {
   /// Metres per map unit.
   double metres_per_unit = 1.0;
 
-  /// Which end of a per-face quantity is worse for the robot.
-  enum class Worst : std::uint8_t { kHighest, kLowest };
+  /// Which end of a per-face quantity is worse for the robot; for a set of bits (FaceLayers::
+  /// reasons) every bit any face has.
+  enum class Worst : std::uint8_t { kHighest, kLowest, kBitwiseOr };
   /// The per-vertex rule of every export: a vertex takes the worst value of its faces (`worst`
   /// says which end is worse); NaN face values are no data and skipped; NaN where no face of the
   /// vertex has a value (or the vertex has no face). O(faces).

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "export_writers.h"
+#include "traversability/layer_registry.h"
 
 namespace terramesh::traversability::internal {
 namespace {
@@ -92,10 +93,13 @@ std::vector<VertexLayer> meshMapVertexLayers(const LayeredMesh& map, const Robot
   layers.push_back({"lethal", flag(classes, FaceClass::kLethal)});
   layers.push_back({"uncertain", flag(classes, FaceClass::kUncertain)});
   layers.push_back({"unknown", flag(classes, FaceClass::kUnknown)});
-  layers.push_back({"contact", map.vertexWorst([](const FaceLayers& f) { return f.contact; }, Worst::kLowest)});
-  layers.push_back({"evidence", map.vertexWorst([](const FaceLayers& f) { return static_cast<float>(f.evidence); })});
-  layers.push_back({"height_uncertainty_m",
-                    map.vertexWorst([](const FaceLayers& f) { return f.height_uncertainty_m; })});
+  // terramesh's own per-vertex layers: the registry's, each by its per-vertex rule.
+  for (const LayerInfo& layer : faceLayerRegistry()) {
+    if (!layer.in_mesh_map) continue;
+    layers.push_back(
+        {layer.name,
+         map.vertexWorst([&layer](const FaceLayers& f) { return static_cast<float>(layer.get(f)); }, layer.worst)});
+  }
   return layers;
 }
 
