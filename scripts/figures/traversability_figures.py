@@ -15,6 +15,8 @@ Inputs (MAP is the folder):
 Outputs (default MAP/plots):
   traversability_top.png         top view, faces coloured by cost, unknown grey, lethal red, uncertain magenta, with
                                  the trajectory and the paths; upper faces drawn over lower ones
+  traversability_reasons.png     the same top view coloured by why a face is not free (its
+                                 `reasons` bits, docs/traversability.md; when the map has them)
   traversability_histograms.png  area of known faces per slope, contact, step and roughness bin,
                                  traversable and lethal stacked
 Exit codes: 0 done, 2 missing or malformed input (message on stderr).
@@ -37,6 +39,26 @@ LETHAL_RGBA = (0.85, 0.0, 0.0, 1.0)
 UNCERTAIN_RGBA = (235 / 255, 60 / 255, 190 / 255, 1.0)
 PATH_COLOURS = ["cyan", "darkorange", "black", "lime", "saddlebrown", "blue"]  # not magenta: uncertain faces
 TOP_VIEW_SIZE_IN = (12.0, 10.0)
+# Why a face is not free (traversability.ply's `reasons` bits, docs/traversability.md): a face takes
+# the first group, in this order, that has one of its bits. Reds: lethal; purples and pinks:
+# uncertain; grey: unknown.
+REASON_GROUPS = [
+    ("lethal: too steep", (0.55, 0.0, 0.0, 1.0), ["too_steep"]),
+    ("lethal: no heading fits", (0.9, 0.1, 0.1, 1.0), ["no_heading_fits"]),
+    ("lethal: low clearance", (1.0, 0.55, 0.3, 1.0), ["low_clearance"]),
+    ("uncertain: possible step", (0.45, 0.1, 0.6, 1.0), ["possible_step"]),
+    ("uncertain: guessed wall or ceiling", (0.3, 0.3, 0.75, 1.0), ["guessed_wall", "unknown_low_clearance"]),
+    ("uncertain: slope within noise", (0.95, 0.55, 0.8, 1.0), ["slope_may_exceed"]),
+    ("uncertain: relief", (0.85, 0.2, 0.65, 1.0), ["worst_case_relief"]),
+    ("uncertain: possible obstacle", (0.6, 0.45, 0.95, 1.0), ["possible_obstacle", "obstacle_extension",
+                                                              "unconfirmed_point"]),
+    ("unknown", UNKNOWN_RGBA, ["closing_geometry", "few_rays"]),
+]
+REASON_BITS = ["too_steep", "no_heading_fits", "low_clearance", "guessed_wall", "possible_step", "slope_may_exceed",
+               "worst_case_relief", "possible_obstacle", "obstacle_extension", "unconfirmed_point",
+               "unknown_low_clearance", "closing_geometry", "few_rays"]
+FREE_RGBA = (0.55, 0.8, 0.55, 1.0)
+
 HISTOGRAMS = [("slope_deg", "slope (degrees)", np.arange(0.0, 90.0 + 1e-9, 2.0)),
               ("contact", "ground contact (fraction of the footprint)", np.linspace(0.0, 1.0, 41)),
               ("step_m", "step height (m)", None),
@@ -173,32 +195,58 @@ def top_view_faces(vertices, faces, layers, up, show_steiner):
     return keep
 
 
-def top_view(plt, vertices, faces, layers, frame, paths, trajectory, title_counts):
-    from matplotlib.collections import PolyCollection
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-    up, plan_x, plan_y, scale = frame
-    plan = np.column_stack([vertices @ plan_x, vertices @ plan_y]) * scale
+def draw_order(vertices, faces, up, scale):
+    """Indices of the faces from the lowest to the highest (upper faces drawn over lower ones)."""
     height = (vertices @ up) * scale
     if isinstance(faces, np.ndarray):
-        order = np.argsort(height[faces].mean(axis=1), kind="stable")
-        polygons = plan[faces[order]]
-    else:
-        order = np.argsort([height[polygon].mean() for polygon in faces], kind="stable")
-        polygons = [plan[faces[i]] for i in order]
-    cmap = plt.get_cmap("viridis")
-    cost = layers["cost"][order]
-    colours = cmap(np.clip(np.nan_to_num(cost, nan=0.0), 0.0, 1.0))
-    colours[layers["unknown"][order] != 0] = UNKNOWN_RGBA
-    colours[layers["lethal"][order] != 0] = LETHAL_RGBA
+        return np.argsort(height[faces].mean(axis=1), kind="stable")
+    return np.argsort([height[polygon].mean() for polygon in faces], kind="stable")
+
+
+def class_colours(plt, layers):
+    """Per face: the cost on viridis, unknown grey, lethal red, uncertain magenta."""
+    colours = plt.get_cmap("viridis")(np.clip(np.nan_to_num(layers["cost"], nan=0.0), 0.0, 1.0))
+    colours[layers["unknown"] != 0] = UNKNOWN_RGBA
+    colours[layers["lethal"] != 0] = LETHAL_RGBA
     if "uncertain" in layers:
-        colours[layers["uncertain"][order] != 0] = UNCERTAIN_RGBA
+        colours[layers["uncertain"] != 0] = UNCERTAIN_RGBA
+    return colours
+
+
+def reason_colours(layers):
+    """Per face: its first REASON_GROUPS group with one of its `reasons` bits, else FREE_RGBA; and
+    the legend patches of the groups that occur."""
+    from matplotlib.patches import Patch
+    bits = layers["reasons"].astype(np.int64)
+    colours = np.tile(np.array(FREE_RGBA), (len(bits), 1))
+    done = np.zeros(len(bits), dtype=bool)
+    handles = [Patch(color=FREE_RGBA, label="free")]
+    for label, rgba, names in REASON_GROUPS:
+        mask = np.zeros(len(bits), dtype=np.int64)
+        for name in names:
+            mask |= 1 << REASON_BITS.index(name)
+        hit = ((bits & mask) != 0) & ~done
+        if hit.any():
+            colours[hit] = rgba
+            handles.append(Patch(color=rgba, label=label))
+        done |= hit
+    return colours, handles
+
+
+def top_view(plt, vertices, faces, colours, frame, paths, trajectory, title, handles, colorbar=True):
+    """Top view of the faces in `colours` (per face RGBA, the faces' order), with the trajectory
+    and the paths."""
+    from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
+    up, plan_x, plan_y, scale = frame
+    plan = np.column_stack([vertices @ plan_x, vertices @ plan_y]) * scale
+    order = draw_order(vertices, faces, up, scale)
+    polygons = plan[faces[order]] if isinstance(faces, np.ndarray) else [plan[faces[i]] for i in order]
 
     figure, axes = plt.subplots(figsize=TOP_VIEW_SIZE_IN, dpi=common.FIGURE_DPI)
     # No antialiasing: it would show the background through the seams between faces.
-    axes.add_collection(PolyCollection(polygons, facecolors=colours, edgecolors="none", antialiaseds=False))
-    handles = [Patch(color=UNKNOWN_RGBA, label="unknown"), Patch(color=LETHAL_RGBA, label="lethal"),
-               Patch(color=UNCERTAIN_RGBA, label="uncertain")]
+    axes.add_collection(PolyCollection(polygons, facecolors=colours[order], edgecolors="none", antialiaseds=False))
+    handles = list(handles)
     points = [plan]
     if trajectory is not None:
         xy = np.column_stack([trajectory @ plan_x, trajectory @ plan_y]) * scale
@@ -221,9 +269,10 @@ def top_view(plt, vertices, faces, layers, frame, paths, trajectory, title_count
     axes.set_aspect("equal")
     axes.set_xlabel("plan x (m)")
     axes.set_ylabel("plan y (m)")
-    axes.set_title("Traversability, top view\n" + title_counts)
-    mappable = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0.0, 1.0))
-    figure.colorbar(mappable, ax=axes, label="cost", fraction=0.04, pad=0.02)
+    axes.set_title(title)
+    if colorbar:
+        mappable = plt.cm.ScalarMappable(cmap=plt.get_cmap("viridis"), norm=plt.Normalize(0.0, 1.0))
+        figure.colorbar(mappable, ax=axes, label="cost", fraction=0.04, pad=0.02)
     axes.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.07), ncol=min(len(handles), 4))
     figure.set_layout_engine("tight")
     return figure
@@ -278,24 +327,40 @@ def main(argv=None):
     trajectory = common.read_kitti_positions(args.trajectory) if args.trajectory else None
 
     areas = faces_area_m2(vertices * scale, faces)
-    total = max(float(areas.sum()), 1e-12)
-    unknown = layers["unknown"] != 0
-    lethal = (layers["lethal"] != 0) & ~unknown
-    uncertain = (layers["uncertain"] != 0) if "uncertain" in layers else np.zeros(len(areas), dtype=bool)
-    counts = (f"{len(areas)} faces; by area {100 * areas[~unknown & ~lethal & ~uncertain].sum() / total:.1f}% "
-              f"traversable, {100 * areas[lethal].sum() / total:.1f}% lethal, "
-              f"{100 * areas[uncertain].sum() / total:.1f}% uncertain, {100 * areas[unknown].sum() / total:.1f}% unknown")
     output_dir = args.output_dir or os.path.join(args.map_dir, "plots")
     plt = common.pyplot()
+    from matplotlib.patches import Patch
     written = []
     # The top view shows the ground: faces that face up and were measured. The closed mesh's lid
-    # (Steiner faces) and the undersides of things would otherwise hide it.
+    # (Steiner faces) and the undersides of things would otherwise hide it. Its shares are of
+    # what it shows.
     shown = top_view_faces(vertices, faces, layers, up, args.show_steiner)
     view_faces = faces[shown] if isinstance(faces, np.ndarray) else [f for f, keep in zip(faces, shown) if keep]
     view_layers = {name: values[shown] for name, values in layers.items()}
-    figure = top_view(plt, vertices, view_faces, view_layers, frame, paths, trajectory, counts)
+    shown_areas = areas[shown]
+    total = max(float(shown_areas.sum()), 1e-12)
+    unknown = view_layers["unknown"] != 0
+    lethal = (view_layers["lethal"] != 0) & ~unknown
+    uncertain = (view_layers["uncertain"] != 0) if "uncertain" in view_layers else np.zeros(len(shown_areas), bool)
+    counts = (f"{len(view_layers['cost'])} of {len(areas)} faces drawn (facing up"
+              f"{'' if args.show_steiner else ', measured'}); by their area:\n"
+              f"{100 * shown_areas[~unknown & ~lethal & ~uncertain].sum() / total:.1f}% traversable, "
+              f"{100 * shown_areas[lethal].sum() / total:.1f}% lethal, "
+              f"{100 * shown_areas[uncertain].sum() / total:.1f}% uncertain, "
+              f"{100 * shown_areas[unknown].sum() / total:.1f}% unknown")
+    class_handles = [Patch(color=UNKNOWN_RGBA, label="unknown"), Patch(color=LETHAL_RGBA, label="lethal"),
+                     Patch(color=UNCERTAIN_RGBA, label="uncertain")]
+    figure = top_view(plt, vertices, view_faces, class_colours(plt, view_layers), frame, paths, trajectory,
+                      "Traversability, top view\n" + counts, class_handles)
     written.append(common.save_png(figure, os.path.join(output_dir, "traversability_top.png")))
     plt.close(figure)
+    if "reasons" in view_layers:
+        colours, handles = reason_colours(view_layers)
+        figure = top_view(plt, vertices, view_faces, colours, frame, paths, trajectory,
+                          "Why not free, top view (the first reason of each face)\n" + counts, handles,
+                          colorbar=False)
+        written.append(common.save_png(figure, os.path.join(output_dir, "traversability_reasons.png")))
+        plt.close(figure)
     figure = histograms(plt, layers, areas)
     written.append(common.save_png(figure, os.path.join(output_dir, "traversability_histograms.png")))
     plt.close(figure)

@@ -183,7 +183,7 @@ def terrain_fixture(up_axis):
 
     vertices, faces, layers = [], [], {name: [] for name in
                                         ("cost", "slope_deg", "step_m", "roughness_m", "contact", "clearance_m",
-                                         "lethal", "unknown")}
+                                         "lethal", "unknown", "reasons")}
 
     def grid(nu, nv, height, u0, v0, deck):
         base = len(vertices)
@@ -200,6 +200,8 @@ def terrain_fixture(up_axis):
                     lethal = not deck and x >= 10
                     layers["unknown"].append(1 if unknown else 0)
                     layers["lethal"].append(1 if lethal else 0)
+                    # Why not free: too steep (bit 0) where lethal, closing geometry (bit 11) where unknown.
+                    layers["reasons"].append(1 if lethal else (1 << 11) if unknown else 0)
                     layers["cost"].append(math.nan if unknown else (1.0 if lethal else x / 12.0))
                     layers["slope_deg"].append(40.0 if lethal else 2.0 + 1.5 * (i % 5))
                     layers["step_m"].append(0.02 * (i % 4))
@@ -220,7 +222,8 @@ def write_map(folder, up_axis=2, metres_per_unit=1.0):
     for name in ("cost", "slope_deg", "step_m", "roughness_m", "contact", "clearance_m"):
         face_props.append((name, "float", np.array(layers[name], dtype=np.float32)))
     face_props += [("lethal", "uchar", np.array(layers["lethal"], dtype=np.uint8)),
-                   ("unknown", "uchar", np.array(layers["unknown"], dtype=np.uint8))]
+                   ("unknown", "uchar", np.array(layers["unknown"], dtype=np.uint8)),
+                   ("reasons", "ushort", np.array(layers["reasons"], dtype=np.uint16))]
     ply.write_binary(os.path.join(folder, "traversability.ply"),
                      [("vertex", [(axis, "double", vertices[:, k]) for k, axis in enumerate("xyz")]),
                       ("face", face_props)])
@@ -299,6 +302,11 @@ class TraversabilityFiguresTest(ScriptCase):
         self.assertGreater(red, 0.02)
         self.assertGreater(grey, 0.02)
         self.assertGreater(share_of_colour(top, (0.0, 1.0, 1.0), 0.05), 0.0005)  # the cyan path
+        # Why not free: the lethal sixth is too steep (dark red), the known rest free (light green).
+        reasons = self.assert_png(self.path("map", "plots", "traversability_reasons.png"), 1200, 1000)
+        self.assertGreater(share_of_colour(reasons, (0.55, 0.0, 0.0)), 0.02)
+        self.assertGreater(share_of_colour(reasons, (0.55, 0.8, 0.55)), 0.1)
+        self.assertEqual(share_of_colour(reasons, (0.85, 0.0, 0.0)), 0.0, "no class red in the reasons view")
         self.assert_png(self.path("map", "plots", "traversability_histograms.png"), 1200, 700)
 
     def test_kitti_up_axis_scale_and_several_paths(self):
