@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "common/input_error.h"
 #include "test_support/temp_dir.h"
@@ -517,6 +518,38 @@ TEST_F(MapDirectoryTest, ReadingABrokenDirectoryNamesTheFile) {
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find("map_frame.yaml"), std::string::npos) << error.what();
     EXPECT_NE(std::string(error.what()).find("metres_per_unit"), std::string::npos) << error.what();
+  }
+}
+
+TEST_F(MapDirectoryTest, ABadRegistryLayerValueNamesTheFaceTheLayerAndWhatWasExpected) {
+  writeMapDirectory(dir_.path(), map_, profile_, config_);
+  // One triangle in ASCII, every required layer, then `evidence` and `reasons` as given.
+  const auto writePly = [&](const std::string& evidence, const std::string& reasons) {
+    std::ofstream(dir_ / "traversability.ply")
+        << "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+           "element face 1\nproperty list uchar uint vertex_indices\nproperty float cost\nproperty uchar lethal\n"
+           "property uchar unknown\nproperty float slope_deg\nproperty float step_m\nproperty float roughness_m\n"
+           "property float contact\nproperty float contact_best\nproperty float clearance_m\n"
+           "property float lethal_distance_m\nproperty float evidence\nproperty uint rays\n"
+           "property float reasons\nproperty uchar steiner\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+        << "3 0 1 2 0.5 0 0 1 0 0 1 1 inf inf " << evidence << " 4 " << reasons << " 0\n";
+  };
+  writePly("0", "80");
+  EXPECT_EQ(readMapDirectory(dir_.path()).map.layers.at(0).reasons, reason::kPossibleStep | reason::kWorstCaseRelief);
+  for (const auto& [evidence, reasons, expected] :
+       {std::tuple<std::string, std::string, std::string>{"7", "0", "evidence 7"}, {"0", "1.5", "reasons 1.5"},
+        {"0", "70000", "reasons 70000"}}) {
+    writePly(evidence, reasons);
+    try {
+      readMapDirectory(dir_.path());
+      FAIL() << expected << " must be refused";
+    } catch (const InputError& error) {
+      const std::string what = error.what();
+      EXPECT_NE(what.find("traversability.ply"), std::string::npos) << what;
+      EXPECT_NE(what.find("face 0"), std::string::npos) << what;
+      EXPECT_NE(what.find(expected.substr(0, expected.find(' '))), std::string::npos) << what;
+      EXPECT_NE(what.find("expected"), std::string::npos) << what;
+    }
   }
 }
 
