@@ -3,7 +3,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
 
 #include "cli_args.h"
 #include "commands.h"
@@ -81,192 +85,243 @@ constexpr const char* kExitCodesHelp =
     "130 / 143 stopped by SIGINT / SIGTERM: the update in progress was finished and the mesh, layers,\n"
     "CSV and summary written for the events applied so far (and a checkpoint, with --checkpoint-every).\n";
 
-}  // namespace
-
-int runMesh(const std::vector<std::string>& args) {
-  CLI::App app{"incremental manifold mesh from a SLAM stream", "terramesh mesh"};
-  app.option_defaults()->always_capture_default();
-  app.footer(kExitCodesHelp);
+/// The options of `terramesh mesh`.
+struct MeshOptions {
   std::string input_path, output_dir, mode_name = "proposed", format = "ply";
   long snapshot_every = 0, checkpoint_every = 0;
   std::optional<std::string> resume_path;
   bool drop_steiner = false, check = false, quiet = false;
-  InputOptions input_options;
-  MesherOptions mesher_options;
-  TraversabilitySessionOptions traversability_options;
-  TrajectoryEvidenceOptions evidence_options;
-  app.add_option("INPUT", input_path,
+  InputOptions input;
+  MesherOptions mesher;
+  TraversabilitySessionOptions traversability;
+  TrajectoryEvidenceOptions evidence;
+};
+
+void declareOptions(CLI::App& app, MeshOptions& o) {
+  app.option_defaults()->always_capture_default();
+  app.footer(kExitCodesHelp);
+  app.add_option("INPUT", o.input_path,
                  "SLAM stream: the authors' JSON (.json), terramesh's (.tmstream), OpenMVG sfm_data.json, Bundler "
                  ".out, a ROS 1 bag (.bag), or a COLMAP or KITTI directory")
       ->required();
-  app.add_option("-o,--output", output_dir, "output directory (created if missing)")->option_text("DIR");
-  app.add_option("--mode", mode_name, "proposed, litvinov13 or romanoni15");
-  app.add_option("--format", format, "mesh format: ply or obj");
-  app.add_option("--snapshot-every", snapshot_every, "also write the mesh every K keyframes (0: never)")
+  app.add_option("-o,--output", o.output_dir, "output directory (created if missing)")->option_text("DIR");
+  app.add_option("--mode", o.mode_name, "proposed, litvinov13 or romanoni15");
+  app.add_option("--format", o.format, "mesh format: ply or obj");
+  app.add_option("--snapshot-every", o.snapshot_every, "also write the mesh every K keyframes (0: never)")
       ->check(nonNegativeNumber());
-  app.add_option("--checkpoint-every", checkpoint_every,
+  app.add_option("--checkpoint-every", o.checkpoint_every,
                  "save the whole mapper state to OUTDIR/checkpoint.tmckpt every K keyframes and when stopped by a "
                  "signal (written atomically; 0: never)")
       ->check(nonNegativeNumber());
-  app.add_option("--resume", resume_path,
+  app.add_option("--resume", o.resume_path,
                  "continue an interrupted run from its checkpoint: give the same INPUT and input options; the "
                  "mesher options come from the checkpoint")
       ->option_text("CHECKPOINT");
-  app.add_flag("--drop-steiner", drop_steiner,
+  app.add_flag("--drop-steiner", o.drop_steiner,
                "also write mesh_open.ply: the surface without faces touching Steiner vertices");
-  app.add_flag("--check-invariants", check, "check every invariant after each update (slow; for testing)");
-  app.add_flag("--quiet", quiet, "print nothing but errors");
-  addInputOptions(app, input_options);
-  addMesherOptions(app, mesher_options);
-  TraversabilitySession::addOptions(app, traversability_options);
-  addTrajectoryEvidenceOptions(app, evidence_options);
-  if (!parseCommandLine(app, args)) return kExitOk;
-  if (output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
-  if (format != "ply" && format != "obj") throw UsageError("mesh: --format must be ply or obj");
-  const auto mode = mesher::parseMesherMode(mode_name);
-  if (!mode) throw UsageError("mesh: --mode must be proposed, litvinov13 or romanoni15");
-  const datasets::StreamReadOptions read_options = streamReadOptionsFrom(input_options);
+  app.add_flag("--check-invariants", o.check, "check every invariant after each update (slow; for testing)");
+  app.add_flag("--quiet", o.quiet, "print nothing but errors");
+  addInputOptions(app, o.input);
+  addMesherOptions(app, o.mesher);
+  TraversabilitySession::addOptions(app, o.traversability);
+  addTrajectoryEvidenceOptions(app, o.evidence);
+}
 
-  // Read and validate everything before creating any output.
-  const std::filesystem::path input = input_path;
-  const datasets::SlamStream stream = datasets::readAnyStream(input, read_options);
-  if (!quiet) printReaderNotes(std::cerr, stream);
-  std::optional<ResumedMeshRun> resumed;
-  if (resume_path) resumed = readMeshCheckpoint(*resume_path, stream);
-  mesher::MesherConfig config = resumed ? resumed->mesher.config() : mesherConfigFrom(mesher_options, *mode, stream);
-  const std::filesystem::path output = output_dir;
-  std::optional<TraversabilitySession> traversability =
-      TraversabilitySession::fromOptions(traversability_options, stream, config.metres_per_unit, output);
-  TrajectoryEvidenceRun evidence =
-      TrajectoryEvidenceRun::fromOptions(evidence_options, stream, traversability ? &*traversability : nullptr);
-  if (resumed && resumed->state.trajectory_evidence != evidence.settings()) {
-    throw InputError(*resume_path, "run state.trajectory_evidence",
-                     "made with trajectory evidence \"" + resumed->state.trajectory_evidence + "\", this run has \"" +
-                         evidence.settings() + "\"; resume with the robot and evidence options of the interrupted run");
+/// One run of `terramesh mesh`: everything read and validated by the constructor before any
+/// output exists, then the events (run), then the outputs and the summary (finish).
+class MeshJob {
+ public:
+  MeshJob(const MeshOptions& o, mesher::MesherMode mode);
+  /// Applies the events from the first one not yet applied; stops early on SIGINT/SIGTERM (within a
+  /// StopSignalScope).
+  void run();
+  /// Writes the mesh, the CSV, the extras and the summary; returns the exit code.
+  int finish();
+
+ private:
+  void afterEvent(std::size_t i, const datasets::StreamEvent& event, const mesher::UpdateStats& stats);
+  void saveCheckpoint(std::size_t next_event);
+  void writeSummary(const mesher::TriangleMesh& mesh, const std::filesystem::path& mesh_path);
+
+  const MeshOptions& o_;
+  const std::filesystem::path input_, output_;
+  const datasets::SlamStream stream_;
+  std::optional<ResumedMeshRun> resumed_;
+  mesher::MesherConfig config_;
+  std::optional<TraversabilitySession> traversability_;
+  TrajectoryEvidenceRun evidence_;
+  MeshRunState state_;
+  std::optional<mesher::Mesher> mesher_;
+  std::vector<std::string> frame_comments_;
+  std::ostringstream csv_;
+  mesher::UpdateStats totals_;
+  std::size_t keyframes_ = 0;
+  std::size_t first_event_ = 0;
+  std::size_t end_event_ = 0;
+  int stop_signal_ = 0;
+};
+
+MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode)
+    : o_(o),
+      input_(o.input_path),
+      output_(o.output_dir),
+      stream_(datasets::readAnyStream(input_, streamReadOptionsFrom(o.input))) {
+  if (!o.quiet) printReaderNotes(std::cerr, stream_);
+  if (o.resume_path) resumed_ = readMeshCheckpoint(*o.resume_path, stream_);
+  config_ = resumed_ ? resumed_->mesher.config() : mesherConfigFrom(o.mesher, mode, stream_);
+  traversability_ = TraversabilitySession::fromOptions(o.traversability, stream_, config_.metres_per_unit, output_);
+  evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr);
+  if (resumed_ && resumed_->state.trajectory_evidence != evidence_.settings()) {
+    throw InputError(*o.resume_path, "run state.trajectory_evidence",
+                     "made with trajectory evidence \"" + resumed_->state.trajectory_evidence + "\", this run has \"" +
+                         evidence_.settings() + "\"; resume with the robot and evidence options of the interrupted run");
   }
   // Nothing under the driven ground is free space (a resumed mesher keeps its own setting).
-  if (evidence.enabled() && !resumed) config.driven_ground_up_W = traversability->frame().up_W;
-  std::filesystem::create_directories(output);
-  if (snapshot_every > 0) std::filesystem::create_directories(output / "snapshots");
+  if (evidence_.enabled() && !resumed_) config_.driven_ground_up_W = traversability_->frame().up_W;
+  std::filesystem::create_directories(output_);
+  if (o.snapshot_every > 0) std::filesystem::create_directories(output_ / "snapshots");
 
-  MeshRunState run;
-  if (resumed) run = resumed->state;
-  run.events = stream.events.size();
-  if (checkpoint_every > 0 && !resumed) run.stream_fingerprint = streamFingerprint(stream);
-  run.trajectory_evidence = evidence.settings();
-  mesher::Mesher mesher = resumed ? std::move(resumed->mesher) : mesher::Mesher(config);
-  if (traversability && evidence.enabled()) traversability->setDrivePoses(evidence.drivePoses());
+  if (resumed_) state_ = resumed_->state;
+  state_.events = stream_.events.size();
+  if (o.checkpoint_every > 0 && !resumed_) state_.stream_fingerprint = streamFingerprint(stream_);
+  state_.trajectory_evidence = evidence_.settings();
+  mesher_.emplace(resumed_ ? std::move(resumed_->mesher) : mesher::Mesher(config_));
+  if (traversability_ && evidence_.enabled()) traversability_->setDrivePoses(evidence_.drivePoses());
   // The poses first: the layers read where the robot faced on its driven samples.
-  if (resumed) evidence.replay(stream, run.next_event);
-  if (traversability && resumed) traversability->resume(mesher, run.keyframes);
-  if (!quiet && !evidence.summary().empty()) std::cerr << "terramesh: " << evidence.summary() << '\n';
-  if (!quiet && evidence.warning()) std::cerr << "terramesh: warning: " << *evidence.warning() << '\n';
-  const bool scale_known = stream.scale_known || mesher_options.metres_per_unit.has_value();
-  const std::vector<std::string> frame_comments = frameComments(
-      stream, scale_known ? std::optional<double>(config.metres_per_unit) : std::nullopt, traversability, evidence);
-  std::ostringstream csv;
-  csv << (resumed ? run.csv : updateCsvHeader() + "\n");
-  mesher::UpdateStats totals = run.totals;
-  std::size_t keyframes = run.keyframes;
-  const std::size_t first_event = run.next_event;
-  const std::filesystem::path checkpoint_path = output / kCheckpointFileName;
-  auto saveCheckpoint = [&](std::size_t next_event) {
-    run.next_event = next_event;
-    run.keyframes = keyframes;
-    run.totals = totals;
-    run.csv = csv.str();
-    writeMeshCheckpoint(checkpoint_path, mesher, run);
-  };
-  int stop_signal = 0;
-  std::size_t end_event = stream.events.size();
-  const StopSignalScope stop_scope;
-  ProgressBar progress("meshing", stream.events.size());
-  for (std::size_t i = first_event; i < stream.events.size(); ++i) {
-    const datasets::StreamEvent& event = stream.events[i];
-    const mesher::UpdateStats stats = evidence.apply(mesher, event);
-    totals += stats;
-    std::uint64_t id = 0;
-    const std::string kind = eventKind(event, id);
-    csv << updateCsvRow(i, kind, id, stats, mesher.size()) << '\n';
-    if (check) {
-      const mesher::InvariantReport report = mesher.checkInvariants();
-      if (!report.ok()) {
-        throw std::runtime_error("invariant check failed after event " + std::to_string(i) + ": " +
-                                 report.summary());
-      }
-    }
-    if (traversability) traversability->afterEvent(mesher, i, kind == "keyframe");
-    if (kind == "keyframe") {
-      ++keyframes;
-      if (snapshot_every > 0 && keyframes % static_cast<std::size_t>(snapshot_every) == 0) {
-        char name[64];
-        std::snprintf(name, sizeof(name), "mesh_%06zu.%s", keyframes, format.c_str());
-        writeMesh(output / "snapshots" / name, mesher.extractMesh(), frame_comments);
-      }
-    }
-    stop_signal = StopSignalScope::requested();
-    const bool checkpoint_due = checkpoint_every > 0 && kind == "keyframe" &&
-                                keyframes % static_cast<std::size_t>(checkpoint_every) == 0;
-    if (checkpoint_due || (stop_signal != 0 && checkpoint_every > 0)) saveCheckpoint(i + 1);
+  if (resumed_) evidence_.replay(stream_, state_.next_event);
+  if (traversability_ && resumed_) traversability_->resume(*mesher_, state_.keyframes);
+  if (!o.quiet && !evidence_.summary().empty()) std::cerr << "terramesh: " << evidence_.summary() << '\n';
+  if (!o.quiet && evidence_.warning()) std::cerr << "terramesh: warning: " << *evidence_.warning() << '\n';
+  const bool scale_known = stream_.scale_known || o.mesher.metres_per_unit.has_value();
+  frame_comments_ = frameComments(stream_, scale_known ? std::optional<double>(config_.metres_per_unit) : std::nullopt,
+                                  traversability_, evidence_);
+  csv_ << (resumed_ ? state_.csv : updateCsvHeader() + "\n");
+  totals_ = state_.totals;
+  keyframes_ = state_.keyframes;
+  first_event_ = state_.next_event;
+  end_event_ = stream_.events.size();
+}
+
+void MeshJob::saveCheckpoint(std::size_t next_event) {
+  state_.next_event = next_event;
+  state_.keyframes = keyframes_;
+  state_.totals = totals_;
+  state_.csv = csv_.str();
+  writeMeshCheckpoint(output_ / kCheckpointFileName, *mesher_, state_);
+}
+
+void MeshJob::run() {
+  ProgressBar progress("meshing", stream_.events.size());
+  for (std::size_t i = first_event_; i < stream_.events.size(); ++i) {
+    const datasets::StreamEvent& event = stream_.events[i];
+    afterEvent(i, event, evidence_.apply(*mesher_, event));
+    stop_signal_ = StopSignalScope::requested();
+    const bool checkpoint_due = o_.checkpoint_every > 0 && std::holds_alternative<mesher::Keyframe>(event) &&
+                                keyframes_ % static_cast<std::size_t>(o_.checkpoint_every) == 0;
+    if (checkpoint_due || (stop_signal_ != 0 && o_.checkpoint_every > 0)) saveCheckpoint(i + 1);
     progress.update(i + 1);
-    if (stop_signal != 0) {
-      end_event = i + 1;
+    if (stop_signal_ != 0) {
+      end_event_ = i + 1;
       break;
     }
   }
+}
 
-  const mesher::TriangleMesh mesh = mesher.extractMesh();
-  const std::filesystem::path mesh_path = output / ("mesh." + format);
-  writeMesh(mesh_path, mesh, frame_comments);
-  writeFileAtomically(output / "keyframes.csv", csv.str());
-  writeRunExtras(stream, output);
-  const mesher::MeshTopology topology = mesher::analyzeTopology(mesh);
-  std::ostringstream summary;
-  summary << "input: " << input.string() << "\nmode: " << mesher::toString(config.mode())
-          << "\nmetres_per_unit: " << config.metres_per_unit << "\nkeyframes: " << keyframes
-          << "\nevents: " << stream.events.size() << "\nmesh: " << mesh_path.string() << " ("
-          << describeTopology(topology) << ")\n";
-  for (const std::string& note : stream.reader_notes) summary << "input: " << note << '\n';
-  for (const std::string& warning : stream.reader_warnings) summary << "warning: " << warning << '\n';
-  if (resumed) summary << "resumed: from " << *resume_path << " at event " << first_event << '\n';
-  if (stop_signal != 0) {
-    summary << "stopped: by signal " << stop_signal << " after event " << end_event - 1 << " (" << keyframes
-            << " keyframes); exit code " << exitCodeForSignal(stop_signal) << '\n';
+void MeshJob::afterEvent(std::size_t i, const datasets::StreamEvent& event, const mesher::UpdateStats& stats) {
+  totals_ += stats;
+  std::uint64_t id = 0;
+  const std::string kind = eventKind(event, id);
+  csv_ << updateCsvRow(i, kind, id, stats, mesher_->size()) << '\n';
+  if (o_.check) {
+    const mesher::InvariantReport report = mesher_->checkInvariants();
+    if (!report.ok()) {
+      throw std::runtime_error("invariant check failed after event " + std::to_string(i) + ": " + report.summary());
+    }
   }
-  printStepTotals(summary, totals, keyframes);
-  if (autoMaxDistance(mesher_options, stream)) {
+  if (traversability_) traversability_->afterEvent(*mesher_, i, kind == "keyframe");
+  if (kind != "keyframe") return;
+  ++keyframes_;
+  if (o_.snapshot_every > 0 && keyframes_ % static_cast<std::size_t>(o_.snapshot_every) == 0) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "mesh_%06zu.%s", keyframes_, o_.format.c_str());
+    writeMesh(output_ / "snapshots" / name, mesher_->extractMesh(), frame_comments_);
+  }
+}
+
+int MeshJob::finish() {
+  const mesher::TriangleMesh mesh = mesher_->extractMesh();
+  const std::filesystem::path mesh_path = output_ / ("mesh." + o_.format);
+  writeMesh(mesh_path, mesh, frame_comments_);
+  writeFileAtomically(output_ / "keyframes.csv", csv_.str());
+  writeRunExtras(stream_, output_);
+  writeSummary(mesh, mesh_path);
+  return stop_signal_ != 0 ? exitCodeForSignal(stop_signal_) : kExitOk;
+}
+
+void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesystem::path& mesh_path) {
+  std::ostringstream summary;
+  summary << "input: " << input_.string() << "\nmode: " << mesher::toString(config_.mode())
+          << "\nmetres_per_unit: " << config_.metres_per_unit << "\nkeyframes: " << keyframes_
+          << "\nevents: " << stream_.events.size() << "\nmesh: " << mesh_path.string() << " ("
+          << describeTopology(mesher::analyzeTopology(mesh)) << ")\n";
+  for (const std::string& note : stream_.reader_notes) summary << "input: " << note << '\n';
+  for (const std::string& warning : stream_.reader_warnings) summary << "warning: " << warning << '\n';
+  if (resumed_) summary << "resumed: from " << *o_.resume_path << " at event " << first_event_ << '\n';
+  if (stop_signal_ != 0) {
+    summary << "stopped: by signal " << stop_signal_ << " after event " << end_event_ - 1 << " (" << keyframes_
+            << " keyframes); exit code " << exitCodeForSignal(stop_signal_) << '\n';
+  }
+  printStepTotals(summary, totals_, keyframes_);
+  if (autoMaxDistance(o_.mesher, stream_)) {
     summary << "max_camera_distance_m: auto, " << kAutoMaxDistanceFactor << " x the "
             << 100 * kAutoMaxDistanceQuantile << "th percentile of the camera-to-point distances\n";
   }
-  printInputFilters(summary, totals, mesher.size(), config);
-  for (const std::string& warning : inputFilterWarnings(totals, mesher.size(), config)) {
-    if (!quiet) std::cerr << "terramesh: warning: " << warning << '\n';
+  printInputFilters(summary, totals_, mesher_->size(), config_);
+  for (const std::string& warning : inputFilterWarnings(totals_, mesher_->size(), config_)) {
+    if (!o_.quiet) std::cerr << "terramesh: warning: " << warning << '\n';
   }
-  if (drop_steiner) {
+  if (o_.drop_steiner) {
     const mesher::TriangleMesh open = mesher::dropSteinerFaces(mesh);
-    const std::filesystem::path open_path = output / ("mesh_open." + format);
-    writeMesh(open_path, open, frame_comments);
+    const std::filesystem::path open_path = output_ / ("mesh_open." + o_.format);
+    writeMesh(open_path, open, frame_comments_);
     const mesher::MeshTopology open_topology = mesher::analyzeTopology(open);
-    summary << "open surface: " << open_path.string() << " (" << open_topology.vertices
-            << " vertices, " << open_topology.faces << " faces, " << open_topology.boundary_edges
-            << " boundary edges, " << open_topology.non_manifold_vertices
-            << " non-manifold vertices)\n";
+    summary << "open surface: " << open_path.string() << " (" << open_topology.vertices << " vertices, "
+            << open_topology.faces << " faces, " << open_topology.boundary_edges << " boundary edges, "
+            << open_topology.non_manifold_vertices << " non-manifold vertices)\n";
   }
-  if (!evidence.summary().empty()) summary << evidence.summary() << '\n';
-  if (evidence.enabled()) {
-    summary << "trajectory evidence: " << evidence.contradictedPoints()
+  if (!evidence_.summary().empty()) summary << evidence_.summary() << '\n';
+  if (evidence_.enabled()) {
+    summary << "trajectory evidence: " << evidence_.contradictedPoints()
             << " SLAM point(s) inside the robot's body where it drove, dropped as outliers; "
-            << evidence.absorbedPoints()
+            << evidence_.absorbedPoints()
             << " on the ground it drove (near the contact plane, under the footprint), stood for by the "
                "driven samples; "
-            << evidence.overriddenKeyframes()
+            << evidence_.overriddenKeyframes()
             << " keyframe(s) whose drive an obstacle seen later overrode (their driven evidence withdrawn)\n";
   }
-  if (evidence.warning()) summary << "warning: " << *evidence.warning() << '\n';
-  if (traversability) traversability->finish(mesher, summary);
-  writeFileAtomically(output / "summary.txt", summary.str());
-  if (!quiet) std::cout << summary.str();
-  return stop_signal != 0 ? exitCodeForSignal(stop_signal) : kExitOk;
+  if (evidence_.warning()) summary << "warning: " << *evidence_.warning() << '\n';
+  if (traversability_) traversability_->finish(*mesher_, summary);
+  writeFileAtomically(output_ / "summary.txt", summary.str());
+  if (!o_.quiet) std::cout << summary.str();
+}
+
+}  // namespace
+
+int runMesh(const std::vector<std::string>& args) {
+  CLI::App app{"incremental manifold mesh from a SLAM stream", "terramesh mesh"};
+  MeshOptions o;
+  declareOptions(app, o);
+  if (!parseCommandLine(app, args)) return kExitOk;
+  if (o.output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
+  if (o.format != "ply" && o.format != "obj") throw UsageError("mesh: --format must be ply or obj");
+  const auto mode = mesher::parseMesherMode(o.mode_name);
+  if (!mode) throw UsageError("mesh: --mode must be proposed, litvinov13 or romanoni15");
+  // Read and validate everything before creating any output.
+  MeshJob job(o, *mode);
+  // From the first event to the last output, a signal finishes the work in progress.
+  const StopSignalScope stop_scope;
+  job.run();
+  return job.finish();
 }
 
 }  // namespace terramesh::cli
