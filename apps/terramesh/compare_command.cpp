@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -175,6 +176,168 @@ std::filesystem::path defaultFiguresScript() {
   return folder.empty() ? folder : folder / "compare_figures.py";
 }
 
+/// What the maps are measured against: the geometry truth, and with a labelled mesh its labels
+/// for the robot and a BVH of it. Filled in place (TriangleBvh stays where it is built).
+struct CompareTruth {
+  std::optional<evaluation::GeometryTruth> geometry;
+  std::optional<datasets::LabeledMesh> labelled;
+  std::optional<evaluation::GroundTruthTraversability> labels;
+  std::optional<datasets::TriangleBvh> bvh;
+};
+
+using Say = std::function<void(const std::string&)>;
+
+/// The geometry truth of --gt (a labelled mesh rendered from the views) or --gt-lidar, if any.
+void readGeometryTruth(const CompareOptions& o, const std::filesystem::path& views_path, const datasets::SlamStream& stream,
+                       const std::optional<datasets::SimilarityTransform>& sim3, double metres_per_unit,
+                       CompareTruth& truth, CompareSetup& setup, const Say& say) {
+  evaluation::GeometryTruthConfig truth_config;
+  truth_config.samples = o.samples;
+  truth_config.seed = o.seed;
+  truth_config.depth.stride_px = o.stride_px;
+  if (o.gt) {
+    truth.labelled = datasets::readLabeledPly(*o.gt);
+    if (truth.labelled->mesh.faces.empty()) throw InputError(*o.gt, "faces", "the ground truth has no faces");
+    const auto [views, views_text] = truthViews(o, views_path, stream, sim3, metres_per_unit);
+    if (views_path.empty()) say("views: " + views_text + " (no --views, no trajectory.txt beside " + *o.gt + ")");
+    truth.geometry = evaluation::GeometryTruth::fromMesh(truth.labelled->mesh, views, truth_config);
+    setup.truth = "mesh `" + *o.gt + "` rendered from " + views_text + " (" +
+                  std::to_string(truth.geometry->truthRays()) + " rays)";
+  } else if (o.gt_lidar) {
+    evaluation::LidarTruthOptions options;
+    options.poses_path = *o.gt_poses;
+    std::tie(options.first_frame, options.last_frame) = parseFrames(o.gt_frames);
+    truth.geometry = evaluation::GeometryTruth::fromLidar(*o.gt_lidar, options, truth_config);
+    setup.truth = "KITTI LiDAR `" + *o.gt_lidar + "` frames " + o.gt_frames + " (" +
+                  std::to_string(truth.geometry->truthRays()) + " rays)";
+  }
+  if (truth.geometry) say("ground truth ready: " + std::to_string(truth.geometry->truthRays()) + " rays");
+}
+
+/// Start/goal pairs for the planning columns: on the observed, driven part of the labelled truth's
+/// traversable area (labelling it for the robot), else among the keyframe centres lowered to the
+/// road. Describes them in setup.pairs.
+std::vector<evaluation::ComparePair> drawPairs(const CompareOptions& o, const traversability::RobotProfile& profile,
+                                               const mesher::MesherConfig& proposed,
+                                               const std::vector<Eigen::Vector3d>& cameras_T,
+                                               const Eigen::Vector3d& up_T, CompareTruth& truth, CompareSetup& setup) {
+  setup.robot = profile.name + " (`" + *o.robot + "`)";
+  if (!truth.labelled) {
+    std::vector<Eigen::Vector3d> road;
+    for (const Eigen::Vector3d& c : cameras_T) road.push_back(c - o.camera_height_m * up_T);
+    std::vector<evaluation::ComparePair> pairs = evaluation::pairsOnPoints(road, o.pairs, o.seed, o.pair_min_distance_m);
+    setup.pairs = std::to_string(pairs.size()) + " among the keyframe centres lowered by " +
+                  std::to_string(o.camera_height_m) + " m (the road under the camera; no labelled truth)";
+    return pairs;
+  }
+  truth.labels = evaluation::labelTraversability(*truth.labelled, evaluation::robotLimitsFrom(profile),
+                                                 evaluation::estimateUpFromSlopes(*truth.labelled), {});
+  truth.bvh.emplace(truth.labelled->mesh);
+  evaluation::TruthPairsConfig pairs_config;
+  pairs_config.count = o.pairs;
+  pairs_config.seed = o.seed;
+  pairs_config.min_distance_m = o.pair_min_distance_m;
+  pairs_config.max_view_distance_m = proposed.max_camera_distance_m;
+  pairs_config.min_views = std::max(1, proposed.min_views);
+  const evaluation::TruthPairs drawn = evaluation::pairsOnObservedTruth(*truth.labels, *truth.bvh, cameras_T, pairs_config);
+  std::ostringstream text;
+  text.precision(4);
+  text << drawn.pairs.size() << " drawn on the connected part of the truth's traversable area that the stream "
+       << "observed and drove on (seed " << o.seed << ", >= " << o.pair_min_distance_m
+       << " m apart in a straight line): " << drawn.samples << " traversable samples on a " << pairs_config.cell_m
+       << " m grid, " << drawn.observed << " seen unoccluded by >= " << pairs_config.min_views
+       << " keyframes within " << pairs_config.max_view_distance_m << " m, joined within "
+       << pairs_config.link_radius_m << " m; the part under the camera path (nearest observed sample of "
+       << drawn.component_votes << " of " << cameras_T.size() << " keyframes) holds " << drawn.component_samples
+       << " (" << drawn.component_extent_m << " m across; the largest part " << drawn.largest_component_samples
+       << "); truth lengths by Dijkstra over those samples";
+  setup.pairs = text.str();
+  return drawn.pairs;
+}
+
+/// The labelled truth as the planned paths are checked on it (empty without it or a robot).
+PathTruth pathTruthFor(const CompareTruth& truth, const std::optional<traversability::RobotProfile>& profile) {
+  PathTruth path_truth;
+  if (!truth.labelled || !profile) return path_truth;
+  path_truth.mesh = &*truth.labelled;
+  path_truth.bvh = &*truth.bvh;
+  path_truth.up_W = truth.labels->up_W;
+  path_truth.max_slope_deg = profile->max_slope_deg;
+  path_truth.footprint_radius_m = profile->footprintCircumradiusM();
+  path_truth.max_step_m = profile->max_step_m;
+  path_truth.min_clearance_m = profile->min_clearance_m;
+  return path_truth;
+}
+
+/// How a built map is measured: in the truth's frame, against what the run has.
+struct MeasureContext {
+  const CompareOptions* options = nullptr;
+  const CompareTruth* truth = nullptr;
+  const traversability::RobotProfile* profile = nullptr;  ///< null: no traversability or planning
+  const std::vector<evaluation::ComparePair>* pairs = nullptr;
+  PathTruth path_truth;
+  planning::WalkabilityConfig walkability;
+  Eigen::Vector3d up_T = Eigen::Vector3d::UnitZ();
+  std::filesystem::path topview_dir;
+};
+
+/// Measures one built map into its row, its surface taken into the truth's frame (metres) by
+/// `to_truth` (timed with the measures).
+void measureRow(CompareRow& row, const std::function<mesher::TriangleMesh(const mesher::TriangleMesh&)>& to_truth,
+                const MeasureContext& c, const Say& say) {
+  const auto started = std::chrono::steady_clock::now();
+  const mesher::TriangleMesh surface = to_truth(row.built.surface);
+  row.manifold = evaluation::measureManifoldness(surface);
+  if (c.truth->geometry) {
+    row.geometry = c.truth->geometry->score(surface);
+    row.has_geometry = true;
+  }
+  std::optional<traversability::LayeredMesh> layered;
+  if (c.profile && !surface.faces.empty()) {
+    layered = traversability::TraversabilityMap::computeForMesh(
+        surface, *c.profile, {c.up_T, 1.0}, static_cast<std::uint32_t>(std::max(c.profile->min_rays, 1)));
+    if (c.truth->labels) {
+      row.traversability = evaluation::scoreTraversability(*layered, *c.truth->labels, {});
+      row.has_traversability = true;
+    }
+    row.planning = planComparePairs(*layered, *c.pairs, c.walkability, c.options->snap_radius_m, c.path_truth);
+    row.has_planning = !c.pairs->empty();
+    if (row.has_planning) say(row.spec.name + ": planning " + row.planning.summary());
+  }
+  writeTopView(c.topview_dir / (row.spec.slug + ".csv"), surface, layered ? &layered->layers : nullptr, c.up_T);
+  row.measure_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  say(row.spec.name + ": measured in " + std::to_string(row.measure_s) + " s");
+}
+
+/// Runs the figure script on OUTDIR unless --no-figures; whether it drew them.
+bool drawFigures(const CompareOptions& o, const std::filesystem::path& out, const Say& say) {
+  if (o.no_figures) return false;
+  const std::filesystem::path script = o.figures_script ? std::filesystem::path(*o.figures_script) : defaultFiguresScript();
+  if (script.empty() || !std::filesystem::is_regular_file(script)) {
+    say("no figure script at " + script.string() + " (give --figures-script)");
+    return false;
+  }
+  const std::vector<std::string> call = {"/usr/bin/python3", script.string(), out.string()};
+  const bool drawn = runProgram(call, o.quiet) == 0;
+  if (!drawn) say("the figure script failed: /usr/bin/python3 " + script.string() + " " + out.string());
+  return drawn;
+}
+
+/// Builds every map, each in its own process, while this process holds only the stream.
+std::vector<CompareRow> buildMaps(const std::vector<MapSpec>& specs, const BuildContext& context, const Say& say) {
+  std::vector<CompareRow> rows;
+  for (const MapSpec& spec : specs) {
+    CompareRow row;
+    row.spec = spec;
+    row.built = buildMap(spec, context);
+    say(spec.name + (row.built.ok ? ": built in " + std::to_string(row.built.build_s) + " s, " +
+                                        std::to_string(row.built.surface.faces.size()) + " faces"
+                                  : ": failed: " + row.built.error));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 }  // namespace
 
 int runCompare(const std::vector<std::string>& args) {
@@ -191,7 +354,7 @@ int runCompare(const std::vector<std::string>& args) {
   if (o.gt_lidar && !o.gt_poses) throw UsageError("compare: --gt-lidar needs --gt-poses FILE");
   if (o.views && !o.gt) throw UsageError("compare: --views goes with --gt");
   const std::vector<MapSpec> specs = parseMethods(o.methods);
-  auto say = [&o](const std::string& text) {
+  const Say say = [&o](const std::string& text) {
     if (!o.quiet) std::cerr << "compare: " << text << '\n';
   };
 
@@ -217,154 +380,50 @@ int runCompare(const std::vector<std::string>& args) {
   context.max_distance_m = proposed.max_camera_distance_m;
   context.min_views = proposed.min_views;
   context.maps_dir = out / "maps";
-
-  // Every map first, each in its own process, while this process holds only the stream.
-  std::vector<CompareRow> rows;
-  for (const MapSpec& spec : specs) {
-    CompareRow row;
-    row.spec = spec;
-    row.built = buildMap(spec, context);
-    say(spec.name + (row.built.ok ? ": built in " + std::to_string(row.built.build_s) + " s, " +
-                                        std::to_string(row.built.surface.faces.size()) + " faces"
-                                  : ": failed: " + row.built.error));
-    rows.push_back(std::move(row));
-  }
+  std::vector<CompareRow> rows = buildMaps(specs, context, say);
 
   // Everything is measured in the truth's frame, in metres.
-  auto toTruth = [&](const mesher::TriangleMesh& mesh) {
+  const auto toTruth = [&](const mesher::TriangleMesh& mesh) -> mesher::TriangleMesh {
     if (sim3) return sim3->apply(mesh);
     mesher::TriangleMesh scaled = mesh;
     for (Eigen::Vector3d& v : scaled.vertices) v *= proposed.metres_per_unit;
     return scaled;
   };
   const Eigen::Vector3d up_T = sim3 ? Eigen::Vector3d((sim3->rotation * up_W).normalized()) : up_W;
-
   CompareSetup setup;
   setup.command = commandLine(args);
   setup.input = o.input;
   setup.keyframes = stream.keyframeEventCount();
   setup.metres_per_unit = proposed.metres_per_unit;
-  evaluation::GeometryTruthConfig truth_config;
-  truth_config.samples = o.samples;
-  truth_config.seed = o.seed;
-  truth_config.depth.stride_px = o.stride_px;
-  std::optional<evaluation::GeometryTruth> truth;
-  std::optional<datasets::LabeledMesh> labelled;
-  if (o.gt) {
-    labelled = datasets::readLabeledPly(*o.gt);
-    if (labelled->mesh.faces.empty()) throw InputError(*o.gt, "faces", "the ground truth has no faces");
-    const auto [views, views_text] = truthViews(o, views_path, stream, sim3, proposed.metres_per_unit);
-    if (views_path.empty()) say("views: " + views_text + " (no --views, no trajectory.txt beside " + *o.gt + ")");
-    truth = evaluation::GeometryTruth::fromMesh(labelled->mesh, views, truth_config);
-    setup.truth = "mesh `" + *o.gt + "` rendered from " + views_text + " (" + std::to_string(truth->truthRays()) + " rays)";
-  } else if (o.gt_lidar) {
-    evaluation::LidarTruthOptions options;
-    options.poses_path = *o.gt_poses;
-    std::tie(options.first_frame, options.last_frame) = parseFrames(o.gt_frames);
-    truth = evaluation::GeometryTruth::fromLidar(*o.gt_lidar, options, truth_config);
-    setup.truth = "KITTI LiDAR `" + *o.gt_lidar + "` frames " + o.gt_frames + " (" +
-                  std::to_string(truth->truthRays()) + " rays)";
-  }
-  if (truth) say("ground truth ready: " + std::to_string(truth->truthRays()) + " rays");
-
-  std::optional<evaluation::GroundTruthTraversability> labels;
-  std::optional<datasets::TriangleBvh> truth_bvh;
-  std::vector<evaluation::ComparePair> pairs;
+  CompareTruth truth;
+  readGeometryTruth(o, views_path, stream, sim3, proposed.metres_per_unit, truth, setup, say);
   std::vector<Eigen::Vector3d> cameras_T;
   for (const Eigen::Vector3d& c : keyframeCentres(stream)) {
     cameras_T.push_back(sim3 ? sim3->apply(c) : Eigen::Vector3d(c * proposed.metres_per_unit));
   }
-  if (profile) {
-    setup.robot = profile->name + " (`" + *o.robot + "`)";
-    if (labelled) {
-      labels = evaluation::labelTraversability(*labelled, evaluation::robotLimitsFrom(*profile),
-                                               evaluation::estimateUpFromSlopes(*labelled), {});
-      truth_bvh.emplace(labelled->mesh);
-      evaluation::TruthPairsConfig pairs_config;
-      pairs_config.count = o.pairs;
-      pairs_config.seed = o.seed;
-      pairs_config.min_distance_m = o.pair_min_distance_m;
-      pairs_config.max_view_distance_m = proposed.max_camera_distance_m;
-      pairs_config.min_views = std::max(1, proposed.min_views);
-      const evaluation::TruthPairs drawn = evaluation::pairsOnObservedTruth(*labels, *truth_bvh, cameras_T, pairs_config);
-      pairs = drawn.pairs;
-      std::ostringstream text;
-      text.precision(4);
-      text << pairs.size() << " drawn on the connected part of the truth's traversable area that the stream "
-           << "observed and drove on (seed " << o.seed << ", >= " << o.pair_min_distance_m
-           << " m apart in a straight line): " << drawn.samples << " traversable samples on a " << pairs_config.cell_m
-           << " m grid, " << drawn.observed << " seen unoccluded by >= " << pairs_config.min_views
-           << " keyframes within " << pairs_config.max_view_distance_m << " m, joined within "
-           << pairs_config.link_radius_m << " m; the part under the camera path (nearest observed sample of "
-           << drawn.component_votes << " of " << cameras_T.size() << " keyframes) holds " << drawn.component_samples
-           << " (" << drawn.component_extent_m << " m across; the largest part " << drawn.largest_component_samples
-           << "); truth lengths by Dijkstra over those samples";
-      setup.pairs = text.str();
-    } else {
-      std::vector<Eigen::Vector3d> road;
-      for (const Eigen::Vector3d& c : cameras_T) road.push_back(c - o.camera_height_m * up_T);
-      pairs = evaluation::pairsOnPoints(road, o.pairs, o.seed, o.pair_min_distance_m);
-      setup.pairs = std::to_string(pairs.size()) + " among the keyframe centres lowered by " +
-                    std::to_string(o.camera_height_m) + " m (the road under the camera; no labelled truth)";
-    }
-  }
+  std::vector<evaluation::ComparePair> pairs;
+  if (profile) pairs = drawPairs(o, *profile, proposed, cameras_T, up_T, truth, setup);
   if (o.allow_unknown && !pairs.empty()) {
     setup.pairs += "; planning may cross unknown faces (--allow-unknown, unknown cost 1: the dearest free cost)";
   }
-  PathTruth path_truth;
-  if (labelled && profile) {
-    path_truth.mesh = &*labelled;
-    path_truth.bvh = &*truth_bvh;
-    path_truth.up_W = labels->up_W;
-    path_truth.max_slope_deg = profile->max_slope_deg;
-    path_truth.footprint_radius_m = profile->footprintCircumradiusM();
-    path_truth.max_step_m = profile->max_step_m;
-    path_truth.min_clearance_m = profile->min_clearance_m;
-  }
 
-  planning::WalkabilityConfig walkability;
-  if (profile) walkability.min_lethal_distance_m = profile->inscribed_radius_m;
-  walkability.allow_unknown = o.allow_unknown;
+  MeasureContext measure;
+  measure.options = &o;
+  measure.truth = &truth;
+  measure.profile = profile ? &*profile : nullptr;
+  measure.pairs = &pairs;
+  measure.path_truth = pathTruthFor(truth, profile);
+  if (profile) measure.walkability.min_lethal_distance_m = profile->inscribed_radius_m;
+  measure.walkability.allow_unknown = o.allow_unknown;
+  measure.up_T = up_T;
+  measure.topview_dir = out / "topview";
   for (CompareRow& row : rows) {
-    if (!row.built.ok) continue;
-    const auto started = std::chrono::steady_clock::now();
-    const mesher::TriangleMesh surface = toTruth(row.built.surface);
-    row.manifold = evaluation::measureManifoldness(surface);
-    if (truth) {
-      row.geometry = truth->score(surface);
-      row.has_geometry = true;
-    }
-    std::optional<traversability::LayeredMesh> layered;
-    if (profile && !surface.faces.empty()) {
-      layered = traversability::TraversabilityMap::computeForMesh(
-          surface, *profile, {up_T, 1.0}, static_cast<std::uint32_t>(std::max(profile->min_rays, 1)));
-      if (labels) {
-        row.traversability = evaluation::scoreTraversability(*layered, *labels, {});
-        row.has_traversability = true;
-      }
-      row.planning = planComparePairs(*layered, pairs, walkability, o.snap_radius_m, path_truth);
-      row.has_planning = !pairs.empty();
-      if (row.has_planning) say(row.spec.name + ": planning " + row.planning.summary());
-    }
-    writeTopView(out / "topview" / (row.spec.slug + ".csv"), surface, layered ? &layered->layers : nullptr, up_T);
-    row.measure_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    say(row.spec.name + ": measured in " + std::to_string(row.measure_s) + " s");
+    if (row.built.ok) measureRow(row, toTruth, measure, say);
   }
 
   writeCompareCsv(out / "compare.csv", rows);
   if (!pairs.empty()) writePairsCsv(out / "pairs.csv", pairs, rows);
-  bool figures = false;
-  if (!o.no_figures) {
-    const std::filesystem::path script = o.figures_script ? std::filesystem::path(*o.figures_script) : defaultFiguresScript();
-    if (!script.empty() && std::filesystem::is_regular_file(script)) {
-      const std::vector<std::string> call = {"/usr/bin/python3", script.string(), out.string()};
-      figures = runProgram(call, o.quiet) == 0;
-      if (!figures) say("the figure script failed: /usr/bin/python3 " + script.string() + " " + out.string());
-    } else {
-      say("no figure script at " + script.string() + " (give --figures-script)");
-    }
-  }
-  const std::string report = compareMarkdown(setup, rows, figures);
+  const std::string report = compareMarkdown(setup, rows, drawFigures(o, out, say));
   writeFileAtomically(out / "report.md", report);
   if (!o.quiet) std::cout << report;
   return kExitOk;
