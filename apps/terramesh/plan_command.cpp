@@ -118,14 +118,8 @@ int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConf
   return kExitOk;
 }
 
-}  // namespace
-
-int runPlan(const std::vector<std::string>& args) {
-  CLI::App app{"drivable path on a traversability map (OMPL on the surface; exit 3 if unreachable)", "terramesh plan"};
-  app.option_defaults()->always_capture_default();
-  app.footer(
-      "writes OUT/path.csv (x,y,z,yaw,face,cost), OUT/path.ply (line set) and OUT/plan.txt; exit code 3 when the "
-      "goal is unreachable (one-line reason)");
+/// The options of `terramesh plan`.
+struct PlanOptions {
   std::string map_dir, output_dir, planner = "bitstar";
   std::vector<double> start_xyz, goal_xyz;
   double time_budget_s = 2, time_cap_s = 0, snap_radius_m = 0.5, unknown_cost = 1.0;
@@ -133,84 +127,111 @@ int runPlan(const std::vector<std::string>& args) {
   std::optional<std::size_t> random_pairs;
   std::optional<std::string> robot;
   bool no_simplify = false, quiet = false, allow_unknown = false, allow_uncertain = false;
-  app.add_option("MAP_DIR", map_dir,
+};
+
+void declareOptions(CLI::App& app, PlanOptions& o) {
+  app.option_defaults()->always_capture_default();
+  app.footer(
+      "writes OUT/path.csv (x,y,z,yaw,face,cost), OUT/path.ply (line set) and OUT/plan.txt; exit code 3 when the "
+      "goal is unreachable (one-line reason)");
+  app.add_option("MAP_DIR", o.map_dir,
                  "map directory written by terramesh traverse (traversability.ply, robot.yaml, map_frame.yaml)")
       ->required();
-  app.add_option("--start", start_xyz, "start point, map frame and units (snapped to the nearest walkable face)")
+  app.add_option("--start", o.start_xyz, "start point, map frame and units (snapped to the nearest walkable face)")
       ->expected(3)
       ->option_text("X Y Z");
-  app.add_option("--goal", goal_xyz, "goal point")->expected(3)->option_text("X Y Z");
-  app.add_option("-o,--output", output_dir, "output directory (created if missing)")->option_text("DIR");
-  app.add_option("--planner", planner,
+  app.add_option("--goal", o.goal_xyz, "goal point")->expected(3)->option_text("X Y Z");
+  app.add_option("-o,--output", o.output_dir, "output directory (created if missing)")->option_text("DIR");
+  app.add_option("--planner", o.planner,
                  "rrtstar, informed-rrtstar, prmstar, lazyprmstar, bitstar, aitstar, or graph (A* baseline)");
-  app.add_option("--time-budget-s", time_budget_s, "planning time budget per query");
-  app.add_option("--time-cap-s", time_cap_s,
+  app.add_option("--time-budget-s", o.time_budget_s, "planning time budget per query");
+  app.add_option("--time-cap-s", o.time_cap_s,
                  "without a path after the budget, keep searching until one is found or this much time has passed "
                  "(0: no extension)");
-  app.add_flag("--allow-unknown", allow_unknown,
+  app.add_flag("--allow-unknown", o.allow_unknown,
                "drive over unknown faces too (Nav2's allow_unknown), at --unknown-cost; never over lethal ones");
-  app.add_option("--unknown-cost", unknown_cost, "cost in [0, 1] of an unknown face with --allow-unknown")
+  app.add_option("--unknown-cost", o.unknown_cost, "cost in [0, 1] of an unknown face with --allow-unknown")
       ->check(CLI::Range(0.0, 1.0));
-  app.add_flag("--allow-uncertain", allow_uncertain,
+  app.add_flag("--allow-uncertain", o.allow_uncertain,
                "drive over uncertain faces too (measured, the evidence cannot decide), at the profile's "
                "evidence.uncertain_cost");
-  app.add_option("--seed", seed, "random seed (> 0)")->check(positiveNumber());
-  app.add_option("--snap-radius-m", snap_radius_m, "start and goal must lie this close to a walkable face");
-  app.add_option("--random-pairs", random_pairs, "plan between N random pairs instead; writes benchmark.log and pairs.csv")
+  app.add_option("--seed", o.seed, "random seed (> 0)")->check(positiveNumber());
+  app.add_option("--snap-radius-m", o.snap_radius_m, "start and goal must lie this close to a walkable face");
+  app.add_option("--random-pairs", o.random_pairs,
+                 "plan between N random pairs instead; writes benchmark.log and pairs.csv")
       ->option_text("N")
       ->check(positiveNumber());
-  app.add_option("--robot", robot, "recompute the layers for this robot profile (YAML) instead of robot.yaml")
+  app.add_option("--robot", o.robot, "recompute the layers for this robot profile (YAML) instead of robot.yaml")
       ->option_text("FILE");
-  app.add_flag("--no-simplify", no_simplify, "keep the planner's raw path");
-  app.add_flag("--quiet", quiet, "print nothing but errors");
+  app.add_flag("--no-simplify", o.no_simplify, "keep the planner's raw path");
+  app.add_flag("--quiet", o.quiet, "print nothing but errors");
+}
+
+/// The planner's settings from the options ("graph" plans with A* on the face graph; the OMPL
+/// planner configured then is never run).
+/// @throw std::invalid_argument for settings out of range.
+planning::PlannerConfig plannerConfig(const PlanOptions& o) {
+  planning::PlannerConfig config;
+  config.planner = o.planner == "graph" ? "rrtstar" : o.planner;
+  config.time_budget_s = o.time_budget_s;
+  config.time_cap_s = o.time_cap_s;
+  config.seed = o.seed;
+  config.snap_radius_m = o.snap_radius_m;
+  config.simplify = !o.no_simplify;
+  config.validate();
+  return config;
+}
+
+/// The map directory, its layers recomputed for --robot when given.
+traversability::MapDirectory loadMap(const PlanOptions& o) {
+  traversability::MapDirectory map = traversability::readMapDirectory(o.map_dir);
+  if (!o.robot) return map;
+  map.profile = traversability::loadRobotProfile(*o.robot);
+  map.profile.validate();
+  traversability::MapFrame frame;
+  frame.up_W = map.map.up_W;
+  frame.metres_per_unit = map.map.metres_per_unit;
+  map.map = traversability::TraversabilityMap::computeForMesh(map.map.mesh, map.profile, frame,
+                                                              static_cast<std::uint32_t>(map.profile.min_rays));
+  return map;
+}
+
+}  // namespace
+
+int runPlan(const std::vector<std::string>& args) {
+  CLI::App app{"drivable path on a traversability map (OMPL on the surface; exit 3 if unreachable)", "terramesh plan"};
+  PlanOptions o;
+  declareOptions(app, o);
   if (!parseCommandLine(app, args)) return kExitOk;
-  if (output_dir.empty()) throw UsageError("plan: -o/--output DIR is required");
-  const bool random = random_pairs.has_value();
-  if (!random && (start_xyz.empty() || goal_xyz.empty())) {
+  if (o.output_dir.empty()) throw UsageError("plan: -o/--output DIR is required");
+  const bool random = o.random_pairs.has_value();
+  if (!random && (o.start_xyz.empty() || o.goal_xyz.empty())) {
     throw UsageError("plan: give --start X Y Z and --goal X Y Z, or --random-pairs N");
   }
-  planning::PlannerConfig config;
-  const bool graph_only = planner == "graph";
-  config.planner = graph_only ? "rrtstar" : planner;
-  config.time_budget_s = time_budget_s;
-  config.time_cap_s = time_cap_s;
-  config.seed = seed;
-  config.snap_radius_m = snap_radius_m;
-  config.simplify = !no_simplify;
-  config.validate();
-
-  traversability::MapDirectory map = traversability::readMapDirectory(map_dir);
-  if (robot) {
-    map.profile = traversability::loadRobotProfile(*robot);
-    map.profile.validate();
-    traversability::MapFrame frame;
-    frame.up_W = map.map.up_W;
-    frame.metres_per_unit = map.map.metres_per_unit;
-    map.map = traversability::TraversabilityMap::computeForMesh(map.map.mesh, map.profile, frame,
-                                                                static_cast<std::uint32_t>(map.profile.min_rays));
-  }
+  const planning::PlannerConfig config = plannerConfig(o);
+  const traversability::MapDirectory map = loadMap(o);
   planning::WalkabilityConfig walkability;
   walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
-  walkability.allow_unknown = allow_unknown;
-  walkability.unknown_cost = unknown_cost;
-  walkability.allow_uncertain = allow_uncertain;
+  walkability.allow_unknown = o.allow_unknown;
+  walkability.unknown_cost = o.unknown_cost;
+  walkability.allow_uncertain = o.allow_uncertain;
   const planning::FaceGraph graph(map.map, walkability);
   planning::setOmplLogging(false);
   planning::seedOmpl(config.seed);
 
-  const std::filesystem::path out = output_dir;
+  const std::filesystem::path out = o.output_dir;
   if (random) {
     std::filesystem::create_directories(out);
-    return runRandomPairs(graph, config, *random_pairs, out, quiet);
+    return runRandomPairs(graph, config, *o.random_pairs, out, o.quiet);
   }
-  const Eigen::Vector3d start = toPoint(start_xyz, "--start"), goal = toPoint(goal_xyz, "--goal");
+  const Eigen::Vector3d start = toPoint(o.start_xyz, "--start"), goal = toPoint(o.goal_xyz, "--goal");
   std::filesystem::create_directories(out);
-  const planning::PlanResult result = graph_only ? planning::planOnFaceGraph(graph, start, goal, config)
-                                                 : planning::planOnSurface(graph, start, goal, config);
+  const planning::PlanResult result = o.planner == "graph" ? planning::planOnFaceGraph(graph, start, goal, config)
+                                                           : planning::planOnSurface(graph, start, goal, config);
   writeFileAtomically(out / "plan.txt", describe(result));
   if (result.solved()) {
     writePathFiles(out, result);
-    if (!quiet) std::cout << describe(result);
+    if (!o.quiet) std::cout << describe(result);
     return kExitOk;
   }
   if (result.status == planning::PlanStatus::kNotFound) {
