@@ -137,6 +137,80 @@ std::vector<evaluation::EvaluationView> readViews(const std::filesystem::path& p
   return views;
 }
 
+/// Checks the truth options; without --views, the views of --gt-mesh are the trajectory.txt that
+/// `terramesh generate` writes beside it (said on stderr).
+/// @throw UsageError for a missing or contradictory option.
+void resolveTruthOptions(EvalOptions& options) {
+  const bool lidar = options.gt_lidar.has_value();
+  if (lidar == options.gt_mesh.has_value()) throw UsageError("eval: give exactly one of --gt-mesh and --gt-lidar");
+  if (!lidar && !options.views) {
+    const std::filesystem::path beside = std::filesystem::path(*options.gt_mesh).parent_path() / "trajectory.txt";
+    if (!std::filesystem::is_regular_file(beside)) {
+      throw UsageError("eval: --gt-mesh needs --views FILE (no trajectory.txt beside " + *options.gt_mesh + ")");
+    }
+    options.views = beside.string();
+    if (!options.quiet) std::cerr << "eval: views: " << beside.string() << ", beside the truth (--views overrides)\n";
+  }
+  if (lidar && !options.poses) throw UsageError("eval: --gt-lidar needs --poses FILE");
+  if (!lidar && options.poses) throw UsageError("eval: --poses goes with --gt-lidar (use --views)");
+}
+
+/// The mesh in the truth's frame, its measured part (no face touching a Steiner vertex) and samples
+/// of that part.
+struct EvalMesh {
+  mesher::TriangleMesh mesh, measured;
+  bool flagged = false;  ///< whether the mesh says which vertices are Steiner vertices
+  std::vector<Eigen::Vector3d> samples;
+};
+
+/// @throw InputError naming the mesh file when it has no (measured) face.
+EvalMesh loadMesh(const EvalOptions& options) {
+  EvalMesh m;
+  const std::string path = std::filesystem::path(options.mesh).string();
+  m.mesh = mesher::readMesh(options.mesh);
+  if (m.mesh.faces.empty()) throw InputError(path, "faces", "the mesh has no faces");
+  if (options.steiner_grid_step) markGridVertices(m.mesh, *options.steiner_grid_step);
+  if (options.sim3) m.mesh = datasets::readSimilarityTransform(*options.sim3).apply(m.mesh);
+  m.flagged = m.mesh.is_steiner.size() == m.mesh.vertices.size();
+  m.measured = m.flagged ? mesher::dropSteinerFaces(m.mesh) : m.mesh;
+  if (m.measured.faces.empty()) throw InputError(path, "faces", "every face touches a Steiner vertex");
+  m.samples = evaluation::sampleSurface(m.measured, options.samples, options.seed, false);
+  return m;
+}
+
+/// The ground-truth rays (LiDAR returns seen by cam0, or pixels of the truth mesh rendered from the
+/// views) and the distances from the mesh's samples to the truth; appends the truth's lines to
+/// `report`.
+std::vector<evaluation::DepthRay> readTruth(const EvalOptions& options, const DepthComparisonConfig& config,
+                                            const evaluation::PinholeCamera& camera,
+                                            const std::vector<Eigen::Vector3d>& samples, DistanceStats& accuracy,
+                                            std::ostream& report) {
+  if (options.gt_lidar) {
+    evaluation::LidarTruthOptions lidar_options;
+    lidar_options.poses_path = *options.poses;
+    std::tie(lidar_options.first_frame, lidar_options.last_frame) = parseInclusiveRange(options.frames);
+    evaluation::LidarTruth truth = evaluation::readLidarTruth(*options.gt_lidar, lidar_options, camera, config);
+    std::vector<Eigen::Vector3d> covered_samples;
+    for (const Eigen::Vector3d& p : samples) {
+      if (truth.covers(p, config.max_depth_m, &camera)) covered_samples.push_back(p);
+    }
+    const datasets::PointCloudIndex cloud(truth.returns_W);
+    accuracy = evaluation::distancesToPoints(covered_samples, cloud, options.match_radius_m);
+    report << "truth lidar " << *options.gt_lidar << " frames " << options.frames << '\n'
+           << "truth_scans " << truth.world_from_sensor.size() << '\n'
+           << "truth_returns " << truth.returns_read << '\n'
+           << "mesh_samples_in_lidar_coverage " << covered_samples.size() << " of " << samples.size() << '\n';
+    return std::move(truth.rays);
+  }
+  const mesher::TriangleMesh truth_mesh = mesher::readMesh(*options.gt_mesh);
+  const datasets::TriangleBvh truth_bvh(truth_mesh);
+  const auto views = readViews(*options.views, options.view_step);
+  std::vector<evaluation::DepthRay> rays = evaluation::renderTruthRays(truth_bvh, views, camera, config);
+  accuracy = evaluation::distancesToSurface(samples, truth_bvh);
+  report << "truth mesh " << *options.gt_mesh << '\n' << "truth_views " << views.size() << '\n';
+  return rays;
+}
+
 }  // namespace
 
 int runEval(const std::vector<std::string>& args) {
@@ -152,81 +226,31 @@ int runEval(const std::vector<std::string>& args) {
   EvalOptions options;
   declareOptions(app, options);
   if (!parseCommandLine(app, args)) return kExitOk;
-  const bool lidar = options.gt_lidar.has_value();
-  if (lidar == options.gt_mesh.has_value()) throw UsageError("eval: give exactly one of --gt-mesh and --gt-lidar");
-  if (!lidar && !options.views) {
-    // terramesh generate writes the poses that observed the truth beside it.
-    const std::filesystem::path beside = std::filesystem::path(*options.gt_mesh).parent_path() / "trajectory.txt";
-    if (!std::filesystem::is_regular_file(beside)) {
-      throw UsageError("eval: --gt-mesh needs --views FILE (no trajectory.txt beside " + *options.gt_mesh + ")");
-    }
-    options.views = beside.string();
-    if (!options.quiet) std::cerr << "eval: views: " << beside.string() << ", beside the truth (--views overrides)\n";
-  }
-  if (lidar && !options.poses) throw UsageError("eval: --gt-lidar needs --poses FILE");
-  if (!lidar && options.poses) throw UsageError("eval: --poses goes with --gt-lidar (use --views)");
-
+  resolveTruthOptions(options);
   DepthComparisonConfig config;
   config.stride_px = static_cast<int>(options.stride_px);
   config.max_depth_m = options.max_depth_m;
   config.coverage_threshold_m = options.coverage_m;
-  const std::size_t sample_count = options.samples;
-  const double match_radius_m = options.match_radius_m;
-  const std::uint64_t seed = options.seed;
   const evaluation::PinholeCamera camera;
 
   // The mesh, in the ground truth's frame.
-  const std::filesystem::path mesh_path = options.mesh;
-  mesher::TriangleMesh mesh = mesher::readMesh(mesh_path);
-  if (mesh.faces.empty()) throw InputError(mesh_path.string(), "faces", "the mesh has no faces");
-  if (options.steiner_grid_step) markGridVertices(mesh, *options.steiner_grid_step);
-  if (options.sim3) mesh = datasets::readSimilarityTransform(*options.sim3).apply(mesh);
-  const bool flagged = mesh.is_steiner.size() == mesh.vertices.size();
-  const mesher::TriangleMesh measured = flagged ? mesher::dropSteinerFaces(mesh) : mesh;
-  const datasets::TriangleBvh mesh_bvh(mesh);
-  if (measured.faces.empty()) throw InputError(mesh_path.string(), "faces", "every face touches a Steiner vertex");
-  const datasets::TriangleBvh measured_bvh(measured);
-  const std::vector<Eigen::Vector3d> mesh_samples = evaluation::sampleSurface(measured, sample_count, seed, false);
-
+  const EvalMesh m = loadMesh(options);
+  const datasets::TriangleBvh mesh_bvh(m.mesh);
+  const datasets::TriangleBvh measured_bvh(m.measured);
   std::ostringstream report;
-  report << "mesh " << mesh_path.string() << '\n'
-         << "mesh_vertices " << mesh.vertices.size() << '\n'
+  report << "mesh " << std::filesystem::path(options.mesh).string() << '\n'
+         << "mesh_vertices " << m.mesh.vertices.size() << '\n'
          << "mesh_steiner_vertices "
-         << (flagged ? std::to_string(std::count(mesh.is_steiner.begin(), mesh.is_steiner.end(), 1)) : "unknown")
+         << (m.flagged ? std::to_string(std::count(m.mesh.is_steiner.begin(), m.mesh.is_steiner.end(), 1)) : "unknown")
          << '\n'
-         << "mesh_faces " << mesh.faces.size() << '\n'
-         << "mesh_measured_faces " << measured.faces.size() << '\n';
-  std::vector<evaluation::DepthRay> truth_rays;
+         << "mesh_faces " << m.mesh.faces.size() << '\n'
+         << "mesh_measured_faces " << m.measured.faces.size() << '\n';
   DistanceStats accuracy;
-  if (lidar) {
-    evaluation::LidarTruthOptions lidar_options;
-    lidar_options.poses_path = *options.poses;
-    std::tie(lidar_options.first_frame, lidar_options.last_frame) = parseInclusiveRange(options.frames);
-    evaluation::LidarTruth truth = evaluation::readLidarTruth(*options.gt_lidar, lidar_options, camera, config);
-    truth_rays = std::move(truth.rays);
-    std::vector<Eigen::Vector3d> covered_samples;
-    for (const Eigen::Vector3d& p : mesh_samples) {
-      if (truth.covers(p, config.max_depth_m, &camera)) covered_samples.push_back(p);
-    }
-    const datasets::PointCloudIndex cloud(truth.returns_W);
-    accuracy = evaluation::distancesToPoints(covered_samples, cloud, match_radius_m);
-    report << "truth lidar " << *options.gt_lidar << " frames " << options.frames << '\n'
-           << "truth_scans " << truth.world_from_sensor.size() << '\n'
-           << "truth_returns " << truth.returns_read << '\n'
-           << "mesh_samples_in_lidar_coverage " << covered_samples.size() << " of " << mesh_samples.size() << '\n';
-  } else {
-    const mesher::TriangleMesh truth_mesh = mesher::readMesh(*options.gt_mesh);
-    const datasets::TriangleBvh truth_bvh(truth_mesh);
-    const auto views = readViews(*options.views, options.view_step);
-    truth_rays = evaluation::renderTruthRays(truth_bvh, views, camera, config);
-    accuracy = evaluation::distancesToSurface(mesh_samples, truth_bvh);
-    report << "truth mesh " << *options.gt_mesh << '\n'
-           << "truth_views " << views.size() << '\n';
-  }
+  const std::vector<evaluation::DepthRay> truth_rays = readTruth(options, config, camera, m.samples, accuracy, report);
   if (truth_rays.empty()) throw UsageError("eval: no ground-truth ray within " + fixed(config.max_depth_m, 1) + " m of a view");
-  const DepthErrors depth = evaluation::compareDepths(mesh_bvh, mesh, truth_rays, config);
+  const DepthErrors depth = evaluation::compareDepths(mesh_bvh, m.mesh, truth_rays, config);
   const DistanceStats completeness =
-      evaluation::distancesToSurface(thin(rayEnds(truth_rays), sample_count), measured_bvh);
+      evaluation::distancesToSurface(thin(rayEnds(truth_rays), options.samples), measured_bvh);
 
   report << "depth_truth_rays " << depth.truth_rays << '\n'
          << "depth_rays_hitting_mesh " << depth.compared << '\n'
