@@ -263,6 +263,35 @@ def robots():
           'weights: {slope: 1, step: 0, roughness: 0, contact: 0, inflation: 0}\n')
 
 
+def maps():
+    """traversability.ply of a map directory (traversability/io/src/layered_ply.cpp): a square of two
+    faces, one free and one uncertain, in ASCII and in binary as terramesh writes it."""
+    floats = ['slope_deg', 'step_m', 'roughness_m', 'contact', 'contact_best', 'clearance_m', 'lethal_distance_m',
+              'height_uncertainty_m']
+    header = ['ply', 'format {}', 'element vertex 4', 'property double x', 'property double y', 'property double z',
+              'property uchar steiner', 'property float cost', 'element face 2',
+              'property list uchar uint vertex_indices', 'property float cost', 'property uchar lethal',
+              'property uchar unknown', 'property uchar uncertain'] + [f'property float {n}' for n in floats] + [
+              'property uchar evidence', 'property uint rays', 'property ushort reasons',
+              'property uint front_crossings', 'property uchar steiner', 'end_header']
+    vertices = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+    # (indices, cost, lethal, unknown, uncertain, 8 floats, evidence, rays, reasons, front_crossings, steiner)
+    faces = [((0, 1, 2), 0.2, 0, 0, 0, [1.0, 0.01, 0.0, 1.0, 1.0, float('inf'), float('inf'), 0.04], 0, 7, 0, 5, 0),
+             ((0, 2, 3), 0.9, 0, 0, 1, [2.0, 0.2, 0.01, 0.8, 0.9, float('inf'), 1.5, 0.3], 2, 4, 80, 0, 0)]
+    text = '\n'.join(header).format('ascii 1.0') + '\n'
+    text += ''.join(f'{x} {y} {z} 0 0.2\n' for x, y, z in vertices)
+    for f in faces:
+        values = [3, *f[0], f[1], f[2], f[3], f[4], *f[5], f[6], f[7], f[8], f[9], f[10]]
+        text += ' '.join(str(v) for v in values) + '\n'
+    write('map_ply', 'square_ascii.ply', text)
+    binary = ('\n'.join(header).format('binary_little_endian 1.0') + '\n').encode()
+    for x, y, z in vertices:
+        binary += struct.pack('<dddBf', x, y, z, 0, 0.2)
+    for f in faces:
+        binary += struct.pack('<B3If3B8fBIHIB', 3, *f[0], f[1], f[2], f[3], f[4], *f[5], f[6], f[7], f[8], f[9], f[10])
+    write('map_ply', 'square_binary.ply', binary)
+
+
 def main():
     doc = slam_json()
     tmstream(doc)
@@ -274,6 +303,7 @@ def main():
     tum()
     meshes()
     robots()
+    maps()
 
 
 if __name__ == '__main__':
