@@ -228,13 +228,20 @@ def read(path):
     return {element.name: element for element in elements}
 
 
-def write_binary(path, elements):
-    """Writes a binary little-endian PLY (for tests and fixtures).
+def comments(path):
+    """The header's comment lines of a PLY file (without the keyword), in order. Raises InputError."""
+    require_file(path)
+    with open(path, "rb") as handle:
+        return _header(path, handle)[2]
+
+
+def write_binary(path, elements, comments=()):
+    """Writes a binary little-endian PLY (for tests and fixtures), atomically.
 
     `elements`: [(name, [(property name, type name, values)])]; a list property is given as
-    ("vertex_indices", "list uchar uint", 2-D array). Not atomic: meant for fixtures.
+    ("vertex_indices", "list uchar uint", 2-D array). `comments`: header comment lines.
     """
-    header = ["ply", "format binary_little_endian 1.0"]
+    header = ["ply", "format binary_little_endian 1.0"] + [f"comment {text}" for text in comments]
     blocks = []
     for name, props in elements:
         count = len(props[0][2]) if props else 0
@@ -265,4 +272,4 @@ def write_binary(path, elements):
     write_atomically(path, ".ply", write)
 
 
-__all__ = ["read", "write_binary", "Element", "Property", "TYPES"]
+__all__ = ["read", "comments", "write_binary", "Element", "Property", "TYPES"]

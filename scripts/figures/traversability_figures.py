@@ -16,7 +16,8 @@ Outputs (default MAP/plots):
   traversability_top.png         top view, faces coloured by cost, unknown grey, lethal red, uncertain magenta, with
                                  the trajectory and the paths; upper faces drawn over lower ones
   traversability_reasons.png     the same top view coloured by why a face is not free (its
-                                 `reasons` bits, docs/traversability.md; when the map has them)
+                                 `reasons` bits, named by the PLY's "reasons bits" header comment;
+                                 when the map has both)
   traversability_histograms.png  area of known faces per slope, contact, step and roughness bin,
                                  traversable and lethal stacked
 Exit codes: 0 done, 2 missing or malformed input (message on stderr).
@@ -54,10 +55,10 @@ REASON_GROUPS = [
                                                               "unconfirmed_point"]),
     ("unknown", UNKNOWN_RGBA, ["closing_geometry", "few_rays"]),
 ]
-REASON_BITS = ["too_steep", "no_heading_fits", "low_clearance", "guessed_wall", "possible_step", "slope_may_exceed",
-               "worst_case_relief", "possible_obstacle", "obstacle_extension", "unconfirmed_point",
-               "unknown_low_clearance", "closing_geometry", "few_rays"]
+# traversability.ply names the bits in a header comment (terramesh writes it from its registry).
+REASON_BITS_COMMENT = "reasons bits, lowest first:"
 FREE_RGBA = (0.55, 0.8, 0.55, 1.0)
+OTHER_REASON_RGBA = (0.3, 0.3, 0.3, 1.0)
 
 HISTOGRAMS = [("slope_deg", "slope (degrees)", np.arange(0.0, 90.0 + 1e-9, 2.0)),
               ("contact", "ground contact (fraction of the footprint)", np.linspace(0.0, 1.0, 41)),
@@ -213,7 +214,15 @@ def class_colours(plt, layers):
     return colours
 
 
-def reason_colours(layers):
+def reason_bit_names(path):
+    """The names of the `reasons` bits, lowest first, from the PLY's header comment (None without it)."""
+    for text in ply.comments(path):
+        if text.startswith(REASON_BITS_COMMENT):
+            return text[len(REASON_BITS_COMMENT):].split()
+    return None
+
+
+def reason_colours(layers, bit_names):
     """Per face: its first REASON_GROUPS group with one of its `reasons` bits, else FREE_RGBA; and
     the legend patches of the groups that occur."""
     from matplotlib.patches import Patch
@@ -224,12 +233,18 @@ def reason_colours(layers):
     for label, rgba, names in REASON_GROUPS:
         mask = np.zeros(len(bits), dtype=np.int64)
         for name in names:
-            mask |= 1 << REASON_BITS.index(name)
+            if name in bit_names:
+                mask |= 1 << bit_names.index(name)
         hit = ((bits & mask) != 0) & ~done
         if hit.any():
             colours[hit] = rgba
             handles.append(Patch(color=rgba, label=label))
         done |= hit
+    # A bit no group names (a reason newer than this script) is still not free.
+    other = (bits != 0) & ~done
+    if other.any():
+        colours[other] = OTHER_REASON_RGBA
+        handles.append(Patch(color=OTHER_REASON_RGBA, label="another reason"))
     return colours, handles
 
 
@@ -354,8 +369,9 @@ def main(argv=None):
                       "Traversability, top view\n" + counts, class_handles)
     written.append(common.save_png(figure, os.path.join(output_dir, "traversability_top.png")))
     plt.close(figure)
-    if "reasons" in view_layers:
-        colours, handles = reason_colours(view_layers)
+    bit_names = reason_bit_names(ply_path)
+    if "reasons" in view_layers and bit_names:
+        colours, handles = reason_colours(view_layers, bit_names)
         figure = top_view(plt, vertices, view_faces, colours, frame, paths, trajectory,
                           "Why not free, top view (the first reason of each face)\n" + counts, handles,
                           colorbar=False)

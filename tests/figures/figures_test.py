@@ -224,9 +224,12 @@ def write_map(folder, up_axis=2, metres_per_unit=1.0):
     face_props += [("lethal", "uchar", np.array(layers["lethal"], dtype=np.uint8)),
                    ("unknown", "uchar", np.array(layers["unknown"], dtype=np.uint8)),
                    ("reasons", "ushort", np.array(layers["reasons"], dtype=np.uint16))]
+    # The bits' names as terramesh writes them (traversability/layer_registry.h, reason::names()).
+    bits = ("too_steep no_heading_fits low_clearance guessed_wall possible_step slope_may_exceed worst_case_relief "
+            "possible_obstacle obstacle_extension unconfirmed_point unknown_low_clearance closing_geometry few_rays")
     ply.write_binary(os.path.join(folder, "traversability.ply"),
                      [("vertex", [(axis, "double", vertices[:, k]) for k, axis in enumerate("xyz")]),
-                      ("face", face_props)])
+                      ("face", face_props)], comments=["reasons bits, lowest first: " + bits])
     up = "[0, 0, 1]" if up_axis == 2 else "[0, -1, 0]"
     with open(os.path.join(folder, "map_frame.yaml"), "w", encoding="utf-8") as handle:
         handle.write(f"# test map frame\nup: {up}\nmetres_per_unit: {metres_per_unit}\n")

@@ -120,6 +120,10 @@ class TempDirCase(unittest.TestCase):
         self.assertFalse([n for n in os.listdir(out) if n.startswith(".")], "temporary files left behind")
         lines, elements, header_size = read_ply_header(os.path.join(out, "traversability.ply"))
         self.assertIn("format binary_little_endian 1.0", lines)
+        # The reasons bits are named in the header, lowest first (docs/traversability.md's table).
+        self.assertIn("comment reasons bits, lowest first: too_steep no_heading_fits low_clearance guessed_wall "
+                      "possible_step slope_may_exceed worst_case_relief possible_obstacle obstacle_extension "
+                      "unconfirmed_point unknown_low_clearance closing_geometry few_rays", lines)
         vertex, face = elements
         self.assertEqual(vertex["properties"], ["x", "y", "z", "steiner", "cost"])
         self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "uncertain", "slope_deg",

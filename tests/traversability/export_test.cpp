@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -551,6 +552,26 @@ TEST_F(MapDirectoryTest, ABadRegistryLayerValueNamesTheFaceTheLayerAndWhatWasExp
       EXPECT_NE(what.find("expected"), std::string::npos) << what;
     }
   }
+}
+
+TEST(LayerRegistry, NamesEachLayerOnceAndFindsItByName) {
+  std::set<std::string> names;
+  for (const LayerInfo& layer : faceLayerRegistry()) {
+    EXPECT_TRUE(names.insert(layer.name).second) << layer.name << " twice";
+    EXPECT_EQ(findFaceLayer(layer.name), &layer);
+    // A value set is the value read back (exact for the integer layers).
+    FaceLayers face;
+    face.face_class = FaceClass::kFree;
+    layer.set(face, 2.0);
+    EXPECT_EQ(layer.get(face), 2.0) << layer.name;
+  }
+  EXPECT_EQ(findFaceLayer("no_such_layer"), nullptr);
+  ASSERT_NE(findFaceLayer("reasons"), nullptr);
+  EXPECT_EQ(findFaceLayer("reasons")->type, LayerType::kUInt16);
+  EXPECT_EQ(findFaceLayer("reasons")->worst, LayeredMesh::Worst::kBitwiseOr);
+  EXPECT_EQ(reason::names().size(), reason::kCount);
+  EXPECT_EQ(std::string(reason::names()[4]), "possible_step");
+  EXPECT_EQ(reason::kPossibleStep, 1u << 4);
 }
 
 TEST(ExportConfig, ValidateListsEveryProblem) {

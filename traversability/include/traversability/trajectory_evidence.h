@@ -120,7 +120,7 @@ struct TrajectoryEvidenceConfig {
   bool later_obstacles_win = true;
 
   /// Each keyframe sent after a keyframe within `max_sweep_distance_m` gets its body views
-  /// (TrajectoryEvidence::bodyViewsOf) in the mesher; off: none (an ablation of studies).
+  /// (TrajectoryEvidence::bodyViewsOf) in the mesher; off: none (for ablation studies).
   bool body_views = true;
 
   /// @throw std::invalid_argument listing every out-of-range field, each "key: value (expected ...)".

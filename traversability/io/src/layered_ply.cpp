@@ -16,6 +16,9 @@ namespace {
 
 using ply::Type;
 
+/// The header comment that names the bits of `reasons`, lowest first, each after a space.
+constexpr std::string_view kReasonBitsComment = "reasons bits, lowest first:";
+
 Type plyType(LayerType type) {
   switch (type) {
     case LayerType::kUInt8: return Type::kUInt8;
@@ -67,6 +70,9 @@ void writeLayeredPly(const std::filesystem::path& path, const LayeredMesh& map) 
   document.comments.push_back("terramesh traversability map: per-face layers (docs/traversability.md)");
   document.comments.push_back("cost in [0,1], NaN = unknown; lengths in metres; infinite clearance = nothing above");
   document.comments.push_back("evidence: 0 measured, 1 driven, 2 interpolated; uncertain = the evidence cannot decide");
+  std::string bits = std::string(kReasonBitsComment);
+  for (const char* name : reason::names()) bits += std::string(" ") + name;
+  document.comments.push_back(bits);
   // Each property is filled right after it is added (adding may move the earlier ones).
   const auto scalar = [](ply::Element& element, const char* name, Type type, std::size_t count, auto value) {
     ply::Property& property = element.addScalar(name, type);
