@@ -523,6 +523,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   bool first = true;
   bool fits_worst = false;
   std::uint16_t worst_case_reasons = 0;
+  fitting_possible_.clear();
   for (std::size_t k = 0; k < heading_samples_.size(); ++k) {
     HeadingResult h = judgeHeading(heading_samples_[k], ref_a, ref_b, steep, store.geometry(s).relief_m, driven);
     // An obstacle inside the footprint: the body collides, the heading does not fit; its top
@@ -530,8 +531,8 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
     const double top = tops[k];
     // What fails the worst case where the robot fits as reconstructed.
     if (h.fits && top <= 0) {
-      worst_case_reasons |= possible_[k];
       if (!h.fits_worst) worst_case_reasons |= reason::kWorstCaseRelief;
+      if (possible_[k] != 0) fitting_possible_.push_back(k);
     }
     h.fits_worst = h.fits_worst && top <= 0 && possible_[k] == 0;
     fits_worst = fits_worst || h.fits_worst;
@@ -549,6 +550,9 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   }
   f.footprint_fits = best.fits;
   f.footprint_fits_worst = fits_worst;
+  if (!fits_worst) {
+    for (std::size_t k : fitting_possible_) worst_case_reasons |= possibleCauses(k);
+  }
   f.worst_case_reasons = fits_worst ? 0 : worst_case_reasons;
   const SlopeSupport support = slopeSupport(store, s);
   f.rise_confirmed = support.rise_confirmed;

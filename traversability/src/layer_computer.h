@@ -224,9 +224,15 @@ class LayerComputer {
   void collectSupportedParts(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b) const;
   /// Per heading, the top of the highest measured obstacle (obstacles_) the footprint meets, 0 if
   /// none, for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp); and in
-  /// possible_, per heading, the reason:: bits of the possible obstacles the footprint at the
-  /// centroid meets (interpolated ones, the possible extension of measured ones, unconfirmed
-  /// points; 0: none).
+  /// possible_, per heading, the reason:: bit of the first possible obstacle the footprint at the
+  /// centroid meets (an interpolated one, the possible extension of a measured one, an
+  /// unconfirmed point; 0: none).
+  /// The reason:: bit of a possible obstacle (kUnconfirmedPoint, kPossibleObstacle or
+  /// kObstacleExtension).
+  static std::uint16_t causeOf(const Obstacle& o);
+  /// Every reason:: bit of the possible obstacles the footprint at the centroid meets at `heading`
+  /// (after obstacleTops; only asked for the faces that fit nowhere in the worst case).
+  std::uint16_t possibleCauses(std::size_t heading) const;
   const std::vector<double>& obstacleTops(const StoredFace& f, bool steep,
                                           std::array<Eigen::Vector2d, kObstaclePoints>& points) const;
   /// Whether the footprint centred at `at` (relative to the centroid) at heading k, grown by
@@ -344,6 +350,8 @@ class LayerComputer {
   mutable std::vector<Obstacle> obstacles_;
   mutable std::vector<double> tops_;
   mutable std::vector<std::uint16_t> possible_;
+  /// The headings of the face being computed that fit as reconstructed but meet a possible obstacle.
+  mutable std::vector<std::size_t> fitting_possible_;
   mutable std::vector<Slot> neighbours_;
   const UnconfirmedPoints* unconfirmed_ = nullptr;
 };

@@ -240,6 +240,19 @@ bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eig
   return true;
 }
 
+std::uint16_t LayerComputer::causeOf(const Obstacle& o) {
+  return o.unconfirmed ? reason::kUnconfirmedPoint : o.possible ? reason::kPossibleObstacle : reason::kObstacleExtension;
+}
+
+std::uint16_t LayerComputer::possibleCauses(std::size_t heading) const {
+  std::uint16_t causes = 0;
+  for (const Obstacle& o : obstacles_) {
+    const std::uint16_t cause = causeOf(o);
+    if (!(causes & cause) && meets(o, heading, Eigen::Vector2d::Zero(), o.extension_m)) causes |= cause;
+  }
+  return causes;
+}
+
 const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool steep,
                                                        std::array<Eigen::Vector2d, kObstaclePoints>& points) const {
   const std::size_t headings = heading_samples_.size();
@@ -253,13 +266,11 @@ const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool
     }
     return top;
   };
-  // Possible obstacles at the centroid: interpolated ones, and where measured ones may extend.
+  // Possible obstacles at the centroid: interpolated ones, and where measured ones may extend
+  // (the first one met per heading; possibleCauses lists them all where that is asked).
   for (const Obstacle& o : obstacles_) {
-    const std::uint16_t cause = o.unconfirmed ? reason::kUnconfirmedPoint
-                                : o.possible  ? reason::kPossibleObstacle
-                                              : reason::kObstacleExtension;
     for (std::size_t k = 0; k < headings; ++k) {
-      if (!(possible_[k] & cause) && meets(o, k, Eigen::Vector2d::Zero(), o.extension_m)) possible_[k] |= cause;
+      if (!possible_[k] && meets(o, k, Eigen::Vector2d::Zero(), o.extension_m)) possible_[k] = causeOf(o);
     }
   }
   const int n = obstaclePoints(f, steep, points);
