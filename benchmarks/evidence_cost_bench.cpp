@@ -58,15 +58,12 @@ Setup decide(const bench::BenchStream& s, const traversability::RobotProfile& pr
   setup.evidence_config.validate();
   setup.frame.up_W = s.up_W;
   setup.frame.metres_per_unit = s.stream.metres_per_unit;
-  std::vector<Eigen::Vector3d> sensors_W;
-  for (const datasets::LatestKeyframePose& pose : datasets::latestKeyframePoses(s.stream)) {
-    sensors_W.push_back(pose.position_W_C);
-  }
-  const traversability::SensorHeightEstimate estimate = traversability::estimateSensorHeight(
-      sensors_W, datasets::latestPointEstimates(s.stream), s.up_W, s.stream.metres_per_unit, setup.evidence_config);
+  const traversability::SensorHeightEstimate estimate =
+      traversability::estimateSensorHeight(datasets::latestKeyframeCentres(s.stream), datasets::latestPointEstimates(s.stream),
+                                           s.up_W, s.stream.metres_per_unit, setup.evidence_config);
   setup.decision =
       traversability::decideTrajectoryEvidence(estimate, profile.mountedSensorHeightM(), {}, setup.evidence_config);
-  if (std::abs(s.stream.sensor_up_S.normalized().z()) > 0.9) setup.forward_S = Eigen::Vector3d::UnitX();
+  setup.forward_S = traversability::sensorForwardAxis(s.stream.sensor_up_S);
   return setup;
 }
 

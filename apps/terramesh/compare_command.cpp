@@ -156,14 +156,6 @@ std::pair<std::vector<evaluation::EvaluationView>, std::string> truthViews(
   return {std::move(views), text};
 }
 
-/// Keyframe centres, the last pose sent for each id (removed keyframes dropped).
-std::vector<Eigen::Vector3d> keyframeCentres(const datasets::SlamStream& stream) {
-  const auto same = [](const auto& x) { return x; };
-  std::vector<Eigen::Vector3d> centres;
-  for (const evaluation::EvaluationView& view : streamViews(stream, 1, same, same)) centres.push_back(view.centre_W);
-  return centres;
-}
-
 std::string commandLine(const std::vector<std::string>& args) {
   std::string text = "terramesh compare";
   for (const std::string& arg : args) text += " " + arg;
@@ -398,7 +390,7 @@ int runCompare(const std::vector<std::string>& args) {
   CompareTruth truth;
   readGeometryTruth(o, views_path, stream, sim3, proposed.metres_per_unit, truth, setup, say);
   std::vector<Eigen::Vector3d> cameras_T;
-  for (const Eigen::Vector3d& c : keyframeCentres(stream)) {
+  for (const Eigen::Vector3d& c : datasets::latestKeyframeCentres(stream)) {
     cameras_T.push_back(sim3 ? sim3->apply(c) : Eigen::Vector3d(c * proposed.metres_per_unit));
   }
   std::vector<evaluation::ComparePair> pairs;

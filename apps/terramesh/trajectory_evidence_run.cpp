@@ -35,10 +35,7 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   config.station_spacing_m = options.station_spacing_m;
   const traversability::RobotProfile& profile = session->profile();
   const traversability::MapFrame& frame = session->frame();
-  std::vector<Eigen::Vector3d> sensors_W;
-  for (const datasets::LatestKeyframePose& pose : datasets::latestKeyframePoses(stream)) {
-    sensors_W.push_back(pose.position_W_C);
-  }
+  const std::vector<Eigen::Vector3d> sensors_W = datasets::latestKeyframeCentres(stream);
   const std::vector<Eigen::Vector3d> points_W = datasets::latestPointEstimates(stream);
   const traversability::SensorHeightEstimate estimate =
       traversability::estimateSensorHeight(sensors_W, points_W, frame.up_W, frame.metres_per_unit, config);
@@ -47,9 +44,7 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   run.summary_ = decision.summary;
   run.warning_ = decision.warning;
   if (!decision.enabled) return run;
-  // The sensor's forward axis: +x for a LiDAR frame (z up), +z for a camera (y down).
-  const Eigen::Vector3d forward_S =
-      std::abs(stream.sensor_up_S.normalized().z()) > 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d forward_S = traversability::sensorForwardAxis(stream.sensor_up_S);
   run.evidence_.emplace(profile, frame.up_W, frame.metres_per_unit, decision.sensor_height_m, forward_S, config);
   run.sensor_height_m_ = decision.sensor_height_m;
   run.sensor_height_source_ = decision.source;

@@ -56,6 +56,12 @@ std::vector<LatestKeyframePose> latestKeyframePoses(const SlamStream& stream) {
   return poses;
 }
 
+std::vector<Eigen::Vector3d> latestKeyframeCentres(const SlamStream& stream) {
+  std::vector<Eigen::Vector3d> centres;
+  for (const LatestKeyframePose& pose : latestKeyframePoses(stream)) centres.push_back(pose.position_W_C);
+  return centres;
+}
+
 std::vector<Eigen::Vector3d> latestPointEstimates(const SlamStream& stream) {
   std::unordered_map<mesher::PointId, Eigen::Vector3d> latest;
   for (const StreamEvent& event : stream.events) {

@@ -1,10 +1,16 @@
 // The mesher updates of a run with trajectory evidence (TrajectoryEvidence::integrate and
-// removeKeyframe): which of the evidence's outputs reach the mesher, and in which order.
+// removeKeyframe): which of the evidence's outputs reach the mesher, and in which order; and the
+// sensor's forward axis the samples are laid out along.
 #include "traversability/trajectory_evidence.h"
 
+#include <cmath>
 #include <vector>
 
 namespace terramesh::traversability {
+
+Eigen::Vector3d sensorForwardAxis(const Eigen::Vector3d& up_S) {
+  return std::abs(up_S.normalized().z()) > 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
+}
 
 mesher::UpdateStats TrajectoryEvidence::integrate(mesher::Mesher& mesher, const mesher::Keyframe& keyframe) {
   mesher::UpdateStats stats = mesher.integrateKeyframe(augment(keyframe));

@@ -74,6 +74,8 @@ struct LatestKeyframePose {
 /// The last pose sent for every keyframe the stream has not removed by its end, in id order.
 /// O(events + keyframes log keyframes).
 std::vector<LatestKeyframePose> latestKeyframePoses(const SlamStream& stream);
+/// The camera centres of latestKeyframePoses, in the same order.
+std::vector<Eigen::Vector3d> latestKeyframeCentres(const SlamStream& stream);
 /// The last estimate sent for every point any keyframe observed (removed points included), in
 /// point id order. O(observations + points log points).
 std::vector<Eigen::Vector3d> latestPointEstimates(const SlamStream& stream);

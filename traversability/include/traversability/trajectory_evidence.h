@@ -159,6 +159,10 @@ SensorHeightEstimate estimateSensorHeight(const std::vector<Eigen::Vector3d>& se
                                           const std::vector<Eigen::Vector3d>& points_W, const Eigen::Vector3d& up_W,
                                           double metres_per_unit, const TrajectoryEvidenceConfig& config);
 
+/// The axis of a sensor's frame that points forward, given the one that points up when the sensor
+/// is level (SlamStream::sensor_up_S): +x for a LiDAR frame (z up), else +z (a camera, y down).
+Eigen::Vector3d sensorForwardAxis(const Eigen::Vector3d& up_S);
+
 /// Whether a run uses trajectory evidence, at which sensor height, and why.
 struct TrajectoryEvidenceDecision {
   bool enabled = false;
