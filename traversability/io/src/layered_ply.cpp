@@ -184,9 +184,7 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
     if (layers.face_class != FaceClass::kUnknown && !(layers.cost >= 0 && layers.cost <= 1)) {
       throw InputError(file, where, "cost must be in [0, 1] for a known face");
     }
-    if (!(rays.values[f] >= 0 && rays.values[f] <= 4294967295.0)) {
-      throw InputError(file, where, "rays must be a count in [0, 2^32)");
-    }
+    // Every registry layer checked for its type (rays an integer of uint's range, ...) and set.
     for (const auto& [layer, property] : registry_layers) {
       layer->set(layers, checkedValue(*layer, property->values[f], file, where));
     }
