@@ -315,6 +315,60 @@ bool drawFigures(const CompareOptions& o, const std::filesystem::path& out, cons
   return drawn;
 }
 
+/// What measuring a built map needs. Keeps pointers to `o`, `truth`, `profile` and `pairs`.
+MeasureContext measureContext(const CompareOptions& o, const CompareTruth& truth,
+                              const std::optional<traversability::RobotProfile>& profile,
+                              const std::vector<evaluation::ComparePair>& pairs, const Eigen::Vector3d& up_T,
+                              const std::filesystem::path& out) {
+  MeasureContext measure;
+  measure.options = &o;
+  measure.truth = &truth;
+  measure.profile = profile ? &*profile : nullptr;
+  measure.pairs = &pairs;
+  measure.path_truth = pathTruthFor(truth, profile);
+  if (profile) measure.walkability.min_lethal_distance_m = profile->inscribed_radius_m;
+  measure.walkability.allow_unknown = o.allow_unknown;
+  measure.up_T = up_T;
+  measure.topview_dir = out / "topview";
+  return measure;
+}
+
+/// The usage errors no single option shows.
+void checkOptions(const CompareOptions& o) {
+  if (o.gt && o.gt_lidar) throw UsageError("compare: give at most one of --gt and --gt-lidar");
+  if (o.gt_lidar && !o.gt_poses) throw UsageError("compare: --gt-lidar needs --gt-poses FILE");
+  if (o.views && !o.gt) throw UsageError("compare: --views goes with --gt");
+}
+
+/// What building a map needs: the stream, each mode's mesher config (from the options), the frame
+/// and where the maps go (OUTDIR/maps). Keeps references to `stream` and `mesher_options`.
+BuildContext buildContext(const datasets::SlamStream& stream, const MesherOptions& mesher_options,
+                          const mesher::MesherConfig& proposed, const Eigen::Vector3d& up_W,
+                          const std::filesystem::path& out) {
+  BuildContext context;
+  context.stream = &stream;
+  context.mesher_config = [&stream, &mesher_options](mesher::MesherMode mode) {
+    return mesherConfigFrom(mesher_options, mode, stream);
+  };
+  context.up_W = up_W;
+  context.metres_per_unit = proposed.metres_per_unit;
+  context.max_distance_m = proposed.max_camera_distance_m;
+  context.min_views = proposed.min_views;
+  context.maps_dir = out / "maps";
+  return context;
+}
+
+/// The stream's latest keyframe centres in the truth's frame (metres).
+std::vector<Eigen::Vector3d> camerasInTruth(const datasets::SlamStream& stream,
+                                            const std::optional<datasets::SimilarityTransform>& sim3,
+                                            double metres_per_unit) {
+  std::vector<Eigen::Vector3d> cameras_T;
+  for (const Eigen::Vector3d& c : datasets::latestKeyframeCentres(stream)) {
+    cameras_T.push_back(sim3 ? sim3->apply(c) : Eigen::Vector3d(c * metres_per_unit));
+  }
+  return cameras_T;
+}
+
 /// Builds every map, each in its own process, while this process holds only the stream.
 std::vector<CompareRow> buildMaps(const std::vector<MapSpec>& specs, const BuildContext& context, const Say& say) {
   std::vector<CompareRow> rows;
@@ -342,9 +396,7 @@ int runCompare(const std::vector<std::string>& args) {
   addOptions(app, o);
   addMesherOptions(app, mesher_options);
   if (!parseCommandLine(app, args)) return kExitOk;
-  if (o.gt && o.gt_lidar) throw UsageError("compare: give at most one of --gt and --gt-lidar");
-  if (o.gt_lidar && !o.gt_poses) throw UsageError("compare: --gt-lidar needs --gt-poses FILE");
-  if (o.views && !o.gt) throw UsageError("compare: --views goes with --gt");
+  checkOptions(o);
   const std::vector<MapSpec> specs = parseMethods(o.methods);
   const Say say = [&o](const std::string& text) {
     if (!o.quiet) std::cerr << "compare: " << text << '\n';
@@ -364,15 +416,7 @@ int runCompare(const std::vector<std::string>& args) {
   const std::filesystem::path out = o.output;
   std::filesystem::create_directories(out / "maps");
   std::filesystem::create_directories(out / "topview");
-  BuildContext context;
-  context.stream = &stream;
-  context.mesher_config = [&](mesher::MesherMode mode) { return mesherConfigFrom(mesher_options, mode, stream); };
-  context.up_W = up_W;
-  context.metres_per_unit = proposed.metres_per_unit;
-  context.max_distance_m = proposed.max_camera_distance_m;
-  context.min_views = proposed.min_views;
-  context.maps_dir = out / "maps";
-  std::vector<CompareRow> rows = buildMaps(specs, context, say);
+  std::vector<CompareRow> rows = buildMaps(specs, buildContext(stream, mesher_options, proposed, up_W, out), say);
 
   // Everything is measured in the truth's frame, in metres.
   const auto toTruth = [&](const mesher::TriangleMesh& mesh) -> mesher::TriangleMesh {
@@ -389,26 +433,15 @@ int runCompare(const std::vector<std::string>& args) {
   setup.metres_per_unit = proposed.metres_per_unit;
   CompareTruth truth;
   readGeometryTruth(o, views_path, stream, sim3, proposed.metres_per_unit, truth, setup, say);
-  std::vector<Eigen::Vector3d> cameras_T;
-  for (const Eigen::Vector3d& c : datasets::latestKeyframeCentres(stream)) {
-    cameras_T.push_back(sim3 ? sim3->apply(c) : Eigen::Vector3d(c * proposed.metres_per_unit));
-  }
   std::vector<evaluation::ComparePair> pairs;
-  if (profile) pairs = drawPairs(o, *profile, proposed, cameras_T, up_T, truth, setup);
+  if (profile) {
+    pairs = drawPairs(o, *profile, proposed, camerasInTruth(stream, sim3, proposed.metres_per_unit), up_T, truth, setup);
+  }
   if (o.allow_unknown && !pairs.empty()) {
     setup.pairs += "; planning may cross unknown faces (--allow-unknown, unknown cost 1: the dearest free cost)";
   }
 
-  MeasureContext measure;
-  measure.options = &o;
-  measure.truth = &truth;
-  measure.profile = profile ? &*profile : nullptr;
-  measure.pairs = &pairs;
-  measure.path_truth = pathTruthFor(truth, profile);
-  if (profile) measure.walkability.min_lethal_distance_m = profile->inscribed_radius_m;
-  measure.walkability.allow_unknown = o.allow_unknown;
-  measure.up_T = up_T;
-  measure.topview_dir = out / "topview";
+  const MeasureContext measure = measureContext(o, truth, profile, pairs, up_T, out);
   for (CompareRow& row : rows) {
     if (row.built.ok) measureRow(row, toTruth, measure, say);
   }

@@ -6,7 +6,9 @@
 #include <optional>
 #include <sstream>
 
+#include "evaluation/path_trials.h"
 #include "evaluation/truth_checker.h"
+#include "planning/path_planner.h"
 #include "planning/surface_planner.h"
 
 namespace terramesh::cli {
@@ -63,40 +65,35 @@ PlanningOutcome planComparePairs(const traversability::LayeredMesh& map,
   planning::PlannerConfig config;
   config.planner = "rrtstar";  // not used by the graph baseline; validated all the same
   config.snap_radius_m = snap_radius_m;
+  const planning::SurfacePlanner graph_astar(graph, config, true);
   std::optional<evaluation::TruthChecker> checker;
   if (truth.mesh && truth.bvh) checker.emplace(*truth.mesh, *truth.bvh);
-  double length = 0, cost = 0, ratio = 0;
+  evaluation::PathTruth path_truth;
+  path_truth.checker = checker ? &*checker : nullptr;
+  path_truth.config = truthCheckConfig(truth);
+  path_truth.up_W = truth.up_W;
+  path_truth.metres_per_unit = graph.metresPerUnit();
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ends;
+  for (const evaluation::ComparePair& pair : pairs) ends.emplace_back(pair.start_W, pair.goal_W);
+  const evaluation::PlannerTrials tally = evaluation::runPathTrials({&graph_astar}, ends, path_truth).front();
+  outcome.solved = tally.solved;
+  outcome.no_start_or_goal = tally.no_start_or_goal;
+  outcome.unreachable = tally.unreachable;
+  outcome.truth_checked = tally.truth_checked;
+  outcome.truth_valid = tally.truth_valid;
+  double ratio = 0;
   std::size_t ratios = 0;
-  for (const evaluation::ComparePair& pair : pairs) {
-    const planning::PlanResult result = planning::planOnFaceGraph(graph, pair.start_W, pair.goal_W, config);
-    outcome.statuses.push_back(planning::toString(result.status));
-    outcome.truth_reasons.emplace_back();
-    switch (result.status) {
-      case planning::PlanStatus::kSolved: {
-        ++outcome.solved;
-        length += result.length_m;
-        cost += result.cost;
-        if (std::isfinite(pair.truth_length_m) && pair.truth_length_m > 0) {
-          ratio += result.length_m / pair.truth_length_m;
-          ++ratios;
-        }
-        if (checker) {
-          std::vector<Eigen::Vector3d> path;
-          for (const planning::PathState& state : result.states) path.push_back(state.location.point_W);
-          const evaluation::TruthCheck check =
-              checker->check(path, truth.up_W, graph.metresPerUnit(), truthCheckConfig(truth));
-          ++outcome.truth_checked;
-          outcome.truth_valid += check.valid ? 1 : 0;
-          outcome.truth_reasons.back() = check.reason;
-        }
-        break;
-      }
-      case planning::PlanStatus::kNoStart:
-      case planning::PlanStatus::kNoGoal: ++outcome.no_start_or_goal; break;
-      case planning::PlanStatus::kUnreachable: ++outcome.unreachable; break;
-      case planning::PlanStatus::kNotFound: break;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const evaluation::PathTrial& trial = tally.trials[i];
+    outcome.statuses.push_back(planning::toString(trial.result.status));
+    outcome.truth_reasons.push_back(trial.check.reason);
+    const double truth_length_m = pairs[i].truth_length_m;
+    if (trial.result.solved() && std::isfinite(truth_length_m) && truth_length_m > 0) {
+      ratio += trial.result.length_m / truth_length_m;
+      ++ratios;
     }
   }
+  const double length = tally.length_m, cost = tally.cost;
   if (outcome.solved > 0) {
     outcome.mean_length_m = length / static_cast<double>(outcome.solved);
     outcome.mean_cost = cost / static_cast<double>(outcome.solved);

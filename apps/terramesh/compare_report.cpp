@@ -128,6 +128,38 @@ void writePairsCsv(const std::filesystem::path& path, const std::vector<evaluati
   writeFileAtomically(path, csv.str());
 }
 
+namespace {
+
+/// One map's row of the report's table.
+void tableRow(std::ostringstream& md, const CompareRow& r) {
+  if (!r.built.ok) {
+    md << "| " << r.spec.name << " | failed: " << r.built.error << " ||||||||||||||||||||\n";
+    return;
+  }
+  const auto& g = r.geometry;
+  const auto& m = r.manifold;
+  md << "| " << r.spec.name << " | " << fixed(r.built.build_s + r.built.to_surface_s, 2) << " | "
+     << fixed(r.built.peak_rss_mb, 0) << " | " << fixed(r.built.extra_peak_mb, 0) << " | "
+     << fixed(mb(r.built.size_bytes), 2) << " | " << r.built.surface.faces.size() << " | "
+     << cell(r.has_geometry, g.accuracy.median_m, 3) << " | " << cell(r.has_geometry, g.accuracy.within[1], 3)
+     << " | " << cell(r.has_geometry, g.completeness.median_m, 3) << " | "
+     << cell(r.has_geometry, g.completeness.within[1], 3) << " | " << cell(r.has_geometry, g.depth.coverage(), 3)
+     << " | " << m.non_manifold_edges << " / " << m.non_manifold_vertices << " | " << m.boundary_loops << " | "
+     << m.components << " | " << m.genus << " | " << cell(r.has_traversability, r.traversability.f1, 3) << " | "
+     << cell(r.has_traversability, r.traversability.coverage, 3) << " | ";
+  if (r.has_planning) {
+    const PlanningOutcome& p = r.planning;
+    md << p.solved << "/" << p.pairs << " | " << fixed(p.mean_length_m, 2) << " | " << fixed(p.mean_cost, 2) << " | "
+       << fixed(p.mean_length_ratio, 3) << " | ";
+    if (p.truth_checked > 0) md << p.truth_valid << "/" << p.truth_checked << " |\n";
+    else md << "- |\n";
+  } else {
+    md << "- | - | - | - | - |\n";
+  }
+}
+
+}  // namespace
+
 std::string compareMarkdown(const CompareSetup& setup, const std::vector<CompareRow>& rows, bool figures_drawn) {
   std::ostringstream md;
   md << "# terramesh compare\n\n"
@@ -142,32 +174,7 @@ std::string compareMarkdown(const CompareSetup& setup, const std::vector<Compare
         "boundary loops | components | genus | traversability F1 | traversable covered | plan solved | plan length (m) | "
         "plan cost | length / truth | valid on truth |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const CompareRow& r : rows) {
-    if (!r.built.ok) {
-      md << "| " << r.spec.name << " | failed: " << r.built.error << " ||||||||||||||||||||\n";
-      continue;
-    }
-    const auto& g = r.geometry;
-    const auto& m = r.manifold;
-    md << "| " << r.spec.name << " | " << fixed(r.built.build_s + r.built.to_surface_s, 2) << " | "
-       << fixed(r.built.peak_rss_mb, 0) << " | " << fixed(r.built.extra_peak_mb, 0) << " | "
-       << fixed(mb(r.built.size_bytes), 2) << " | " << r.built.surface.faces.size() << " | "
-       << cell(r.has_geometry, g.accuracy.median_m, 3) << " | " << cell(r.has_geometry, g.accuracy.within[1], 3)
-       << " | " << cell(r.has_geometry, g.completeness.median_m, 3) << " | "
-       << cell(r.has_geometry, g.completeness.within[1], 3) << " | " << cell(r.has_geometry, g.depth.coverage(), 3)
-       << " | " << m.non_manifold_edges << " / " << m.non_manifold_vertices << " | " << m.boundary_loops << " | "
-       << m.components << " | " << m.genus << " | " << cell(r.has_traversability, r.traversability.f1, 3) << " | "
-       << cell(r.has_traversability, r.traversability.coverage, 3) << " | ";
-    if (r.has_planning) {
-      const PlanningOutcome& p = r.planning;
-      md << p.solved << "/" << p.pairs << " | " << fixed(p.mean_length_m, 2) << " | " << fixed(p.mean_cost, 2) << " | "
-         << fixed(p.mean_length_ratio, 3) << " | ";
-      if (p.truth_checked > 0) md << p.truth_valid << "/" << p.truth_checked << " |\n";
-      else md << "- |\n";
-    } else {
-      md << "- | - | - | - | - |\n";
-    }
-  }
+  for (const CompareRow& r : rows) tableRow(md, r);
   md << "\nBuild time: the method's own work (mesher: every update and the final extraction; OctoMap: the "
         "insertions, plus turning the .bt into a voxel-face surface; PCL: selecting the points, normals and the "
         "reconstruction). Peak RSS: `ru_maxrss` of the child process (fork + wait4) that built the map alone; extra "

@@ -58,18 +58,7 @@ std::string describe(const mesher::TriangleMesh& mesh) {
   return std::to_string(mesh.vertices.size()) + " vertices, " + std::to_string(mesh.faces.size()) + " faces";
 }
 
-}  // namespace
-
-int runConvert(const std::vector<std::string>& args) {
-  CLI::App app("Converts maps to and from PCL and OctoMap files, by extension:\n"
-               "  MESH (.ply/.obj/.off)  -> .ply/.obj/.vtk  through pcl::PolygonMesh and PCL's writers (--to pcl)\n"
-               "  PCL mesh (.ply/.obj)   -> .ply/.obj       read by PCL's readers, written by terramesh (--to terramesh)\n"
-               "  STREAM                 -> .pcd            SLAM points, each with its observing camera as viewpoint\n"
-               "  STREAM                 -> .bt             OctoMap from the camera-to-point rays\n"
-               "  .bt                    -> .ply/.obj       the faces of the occupied voxels as a mesh\n"
-               "  MAP_DIR or its traversability.ply -> .pcd  face centroids with every layer as a field",
-               "terramesh convert");
-  ConvertOptions o;
+void declareOptions(CLI::App& app, ConvertOptions& o) {
   app.add_option("IN", o.input, "input file or directory")->required();
   app.add_option("OUT", o.output, "output file; its extension picks the conversion")->required();
   app.add_option("--to", o.to, "mesh to mesh: pcl (write with PCL) or terramesh (read with PCL, write ours)")->capture_default_str()
@@ -84,8 +73,10 @@ int runConvert(const std::vector<std::string>& args) {
   app.add_option("--up", o.up, ".bt -> mesh: map the octree frame back to a map whose up is X Y Z (default: keep the octree's z-up frame)")
       ->expected(3);
   app.add_flag("--quiet", o.quiet, "print nothing but errors");
-  if (!parseCommandLine(app, args)) return kExitOk;
+}
 
+/// The conversion of o.input into o.output their extensions pick; returns what it wrote.
+std::string convertOne(const ConvertOptions& o) {
   const std::filesystem::path in = o.input, out = o.output;
   const std::string in_ext = extension(in), out_ext = extension(out);
   if (!std::filesystem::exists(in)) throw InputError(in.string(), "file", "an existing file or directory");
@@ -133,7 +124,26 @@ int runConvert(const std::vector<std::string>& args) {
   } else {
     throw UsageError("convert: no conversion from " + in.string() + " to " + out.string() + " (see --help)");
   }
-  if (!o.quiet) std::cout << summary.str() << " -> " << out.string() << '\n';
+  return summary.str();
+}
+
+}  // namespace
+
+int runConvert(const std::vector<std::string>& args) {
+  CLI::App app("Converts maps to and from PCL and OctoMap files, by extension:\n"
+               "  MESH (.ply/.obj/.off)  -> .ply/.obj/.vtk  through pcl::PolygonMesh and PCL's writers (--to pcl)\n"
+               "  PCL mesh (.ply/.obj)   -> .ply/.obj       read by PCL's readers, written by terramesh (--to terramesh)\n"
+               "  STREAM                 -> .pcd            SLAM points, each with its observing camera as viewpoint\n"
+               "  STREAM                 -> .bt             OctoMap from the camera-to-point rays\n"
+               "  .bt                    -> .ply/.obj       the faces of the occupied voxels as a mesh\n"
+               "  MAP_DIR or its traversability.ply -> .pcd  face centroids with every layer as a field",
+               "terramesh convert");
+  ConvertOptions o;
+  declareOptions(app, o);
+  if (!parseCommandLine(app, args)) return kExitOk;
+
+  const std::string summary = convertOne(o);
+  if (!o.quiet) std::cout << summary << " -> " << o.output << '\n';
   return kExitOk;
 }
 

@@ -13,6 +13,7 @@
 #include "common/atomic_file.h"
 #include "planning/face_graph.h"
 #include "planning/ompl_benchmark_log.h"
+#include "planning/path_planner.h"
 #include "planning/surface_planner.h"
 #include "traversability/map_directory.h"
 #include "traversability/robot_profile_yaml.h"
@@ -68,12 +69,15 @@ std::string hostname() {
   return gethostname(name, sizeof(name) - 1) == 0 ? std::string(name) : std::string("unknown");
 }
 
-int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConfig& config, std::size_t count,
-                   const std::filesystem::path& out, bool quiet) {
+/// `count` random pairs planned with the chosen planner (`graph_only`: the face-graph A*) and with
+/// the graph baseline beside it.
+int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConfig& config, bool graph_only,
+                   std::size_t count, const std::filesystem::path& out, bool quiet) {
+  const std::string planner_name = graph_only ? std::string("graph") : config.planner;
   const auto started = std::chrono::steady_clock::now();
   const auto pairs = planning::drawRandomPairs(graph, count, config.seed, 5.0);
   if (pairs.empty()) throw std::runtime_error("plan: no walkable component to draw pairs from");
-  planning::BenchmarkPlannerRuns sampled{"geometric_" + config.planner,
+  planning::BenchmarkPlannerRuns sampled{graph_only ? std::string("graph_astar") : "geometric_" + config.planner,
                                          {"time REAL", "solved BOOLEAN", "surface length REAL", "path cost REAL",
                                           "first solution time REAL", "simplification time REAL",
                                           "graph optimum cost REAL", "cost over graph optimum REAL"},
@@ -83,10 +87,11 @@ int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConf
   csv << "pair,start_x,start_y,start_z,goal_x,goal_y,goal_z,status,length_m,cost,time_s,graph_cost,graph_time_s,"
          "unknown_length_m\n";
   std::size_t solved = 0;
+  const planning::SurfacePlanner graph_astar(graph, config, true), sampled_planner(graph, config, graph_only);
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const Eigen::Vector3d a = pairs[i].first.point_W, b = pairs[i].second.point_W;
-    const planning::PlanResult graph_result = planning::planOnFaceGraph(graph, a, b, config);
-    const planning::PlanResult result = planning::planOnSurface(graph, a, b, config);
+    const planning::PlanResult graph_result = graph_astar.plan(a, b);
+    const planning::PlanResult result = sampled_planner.plan(a, b);
     solved += result.solved() ? 1 : 0;
     const double nan = std::nan("");
     sampled.runs.push_back({result.planning_time_s, result.solved() ? 1.0 : 0.0, result.solved() ? result.length_m : nan,
@@ -108,11 +113,12 @@ int runRandomPairs(const planning::FaceGraph& graph, const planning::PlannerConf
   experiment.time_limit_s = config.time_budget_s;
   experiment.run_count = pairs.size();
   experiment.total_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  experiment.planners = {sampled, graph_runs};
+  experiment.planners = {sampled};
+  if (!graph_only) experiment.planners.push_back(graph_runs);
   planning::writeOmplBenchmarkLog(out / "benchmark.log", experiment);
   writeFileAtomically(out / "pairs.csv", csv.str());
   std::ostringstream summary;
-  summary << "planner " << config.planner << "\npairs " << pairs.size() << "\nsolved " << solved << '\n';
+  summary << "planner " << planner_name << "\npairs " << pairs.size() << "\nsolved " << solved << '\n';
   writeFileAtomically(out / "plan.txt", summary.str());
   if (!quiet) std::cout << summary.str();
   return kExitOk;
@@ -222,12 +228,11 @@ int runPlan(const std::vector<std::string>& args) {
   const std::filesystem::path out = o.output_dir;
   if (random) {
     std::filesystem::create_directories(out);
-    return runRandomPairs(graph, config, *o.random_pairs, out, o.quiet);
+    return runRandomPairs(graph, config, o.planner == "graph", *o.random_pairs, out, o.quiet);
   }
   const Eigen::Vector3d start = toPoint(o.start_xyz, "--start"), goal = toPoint(o.goal_xyz, "--goal");
   std::filesystem::create_directories(out);
-  const planning::PlanResult result = o.planner == "graph" ? planning::planOnFaceGraph(graph, start, goal, config)
-                                                           : planning::planOnSurface(graph, start, goal, config);
+  const planning::PlanResult result = planning::SurfacePlanner(graph, config, o.planner == "graph").plan(start, goal);
   writeFileAtomically(out / "plan.txt", describe(result));
   if (result.solved()) {
     writePathFiles(out, result);

@@ -1,7 +1,8 @@
 // terramesh traverse MESH --robot R.yaml -o OUT: traversability layers of a finished mesh and every
 // export of the map directory (traversability.ply, Nav2 maps per level, GeoTIFF layers).
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -15,6 +16,45 @@
 #include "traversability_session.h"
 
 namespace terramesh::cli {
+
+namespace {
+
+/// The mesh's frame: the given scale and up first, then the profile's gravity (up only), then what
+/// the mesh's header records (said through `say`), else 1 and +z (said too).
+/// @throw std::invalid_argument if the frame does not validate.
+traversability::MapFrame resolveFrame(const std::optional<double>& metres_per_unit, const Eigen::Vector3d* given_up,
+                                      const traversability::RobotProfile& profile, const MeshFrameHints& hints,
+                                      const std::function<void(const std::string&)>& say) {
+  traversability::MapFrame frame;
+  if (metres_per_unit) {
+    frame.metres_per_unit = *metres_per_unit;
+  } else if (hints.metres_per_unit) {
+    frame.metres_per_unit = *hints.metres_per_unit;
+    std::ostringstream text;
+    text << "metres_per_unit " << frame.metres_per_unit << ", from the mesh's header (--metres-per-unit overrides)";
+    say(text.str());
+  } else {
+    say("the mesh's header records no scale: metres_per_unit 1 (--metres-per-unit sets it)");
+  }
+  if (given_up != nullptr) {
+    frame.up_W = *given_up;
+  } else if (profile.gravity_W) {
+    frame.up_W = -profile.gravity_W->normalized();
+  } else if (hints.up_W) {
+    frame.up_W = *hints.up_W;
+    std::ostringstream text;
+    text << "up (" << frame.up_W.x() << ", " << frame.up_W.y() << ", " << frame.up_W.z() << "), from the mesh's header"
+         << (hints.up_source.empty() ? "" : " (" + hints.up_source + ")") << " (--up overrides)";
+    say(text.str());
+  } else {
+    say("the profile's gravity is auto and the mesh's header records no up: using up = +z (--up sets it)");
+    frame.up_W = Eigen::Vector3d::UnitZ();
+  }
+  frame.validate();
+  return frame;
+}
+
+}  // namespace
 
 int runTraverse(const std::vector<std::string>& args) {
   CLI::App app{"traversability map of a finished mesh for a robot: PLY layers, Nav2 maps, GeoTIFF",
@@ -49,35 +89,10 @@ int runTraverse(const std::vector<std::string>& args) {
   const traversability::RobotProfile profile = robotFrom(export_options);
   const std::filesystem::path input = mesh_file;
   const MeshFrameHints hints = readMeshFrameHints(input);
-  const auto say = [quiet](const std::string& text) {
+  const std::function<void(const std::string&)> say = [quiet](const std::string& text) {
     if (!quiet) std::cerr << "terramesh traverse: " << text << '\n';
   };
-  traversability::MapFrame frame;
-  if (metres_per_unit) {
-    frame.metres_per_unit = *metres_per_unit;
-  } else if (hints.metres_per_unit) {
-    frame.metres_per_unit = *hints.metres_per_unit;
-    std::ostringstream text;
-    text << "metres_per_unit " << frame.metres_per_unit << ", from the mesh's header (--metres-per-unit overrides)";
-    say(text.str());
-  } else {
-    say("the mesh's header records no scale: metres_per_unit 1 (--metres-per-unit sets it)");
-  }
-  if (up) {
-    frame.up_W = given_up;
-  } else if (profile.gravity_W) {
-    frame.up_W = -profile.gravity_W->normalized();
-  } else if (hints.up_W) {
-    frame.up_W = *hints.up_W;
-    std::ostringstream text;
-    text << "up (" << frame.up_W.x() << ", " << frame.up_W.y() << ", " << frame.up_W.z() << "), from the mesh's header"
-         << (hints.up_source.empty() ? "" : " (" + hints.up_source + ")") << " (--up overrides)";
-    say(text.str());
-  } else {
-    say("the profile's gravity is auto and the mesh's header records no up: using up = +z (--up sets it)");
-    frame.up_W = Eigen::Vector3d::UnitZ();
-  }
-  frame.validate();
+  const traversability::MapFrame frame = resolveFrame(metres_per_unit, up ? &given_up : nullptr, profile, hints, say);
   const mesher::TriangleMesh mesh = mesher::readMesh(input);
 
   // Without Steiner flags every face counts as measured: it gets enough rays to be known.

@@ -83,13 +83,34 @@ bool connected(const HeightGrid& grid, const Eigen::Vector2i& a, const Eigen::Ve
   return false;
 }
 
+/// Grid-plane points (metres) as path states in W: on the ground, heading along the path (the last
+/// keeps the one before), with their cell's cost.
+std::vector<planning::PathState> statesOf(const HeightGrid& grid, const std::vector<Eigen::Vector2d>& points) {
+  std::vector<planning::PathState> states;
+  states.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector2d& p = points[i];
+    planning::PathState state;
+    const Eigen::Vector3d p_G(p.x(), p.y(), groundAt(grid, p.x(), p.y()));
+    state.location = {planning::FaceGraph::kNoFace, grid.R_G_W.transpose() * p_G / grid.metres_per_unit};
+    Eigen::Vector2d step = Eigen::Vector2d::Zero();
+    if (i + 1 < points.size()) step = points[i + 1] - p;
+    else if (i > 0) step = p - points[i - 1];
+    state.yaw_rad = step.squaredNorm() > 0 ? std::atan2(step.y(), step.x()) : 0.0;
+    const Eigen::Vector2i c = grid.cellOf(p.x(), p.y());
+    state.face_cost = grid.inside(c.x(), c.y()) ? grid.cost[grid.index(c.x(), c.y())] : std::nanf("");
+    states.push_back(state);
+  }
+  return states;
+}
+
 }  // namespace
 
-GridPlanResult planOnGrid(const HeightGrid& grid, const Eigen::Vector3d& start_W, const Eigen::Vector3d& goal_W,
-                          const planning::PlannerConfig& config, double cost_weight) {
+planning::PlanResult planOnGrid(const HeightGrid& grid, const Eigen::Vector3d& start_W, const Eigen::Vector3d& goal_W,
+                                const planning::PlannerConfig& config, double cost_weight) {
   config.validate();
   if (grid.width <= 0 || grid.height <= 0) throw std::invalid_argument("planOnGrid: the grid is empty");
-  GridPlanResult result;
+  planning::PlanResult result;
   result.planner = planning::canonicalPlannerName(config.planner).value_or(config.planner);
   const Eigen::Vector3d start_G = grid.R_G_W * start_W * grid.metres_per_unit;
   const Eigen::Vector3d goal_G = grid.R_G_W * goal_W * grid.metres_per_unit;
@@ -134,12 +155,21 @@ GridPlanResult planOnGrid(const HeightGrid& grid, const Eigen::Vector3d& start_W
     result.cost += cost;
     result.length_m += length;
   }
-  for (const Eigen::Vector2d& p : path.dense) {
-    const Eigen::Vector3d p_G(p.x(), p.y(), groundAt(grid, p.x(), p.y()));
-    result.points_W.push_back(grid.R_G_W.transpose() * p_G / grid.metres_per_unit);
-  }
+  result.states = statesOf(grid, path.dense);
+  result.waypoints = statesOf(grid, path.waypoints);
+  result.start = result.states.front().location;
+  result.goal = result.states.back().location;
   result.status = planning::PlanStatus::kSolved;
   return result;
+}
+
+GridPlanner::GridPlanner(const HeightGrid& grid, const planning::PlannerConfig& config, double cost_weight)
+    : grid_(grid), config_(config), cost_weight_(cost_weight) {
+  config_.validate();
+}
+
+planning::PlanResult GridPlanner::plan(const Eigen::Vector3d& start_W, const Eigen::Vector3d& goal_W) const {
+  return planOnGrid(grid_, start_W, goal_W, config_, cost_weight_);
 }
 
 }  // namespace terramesh::baselines

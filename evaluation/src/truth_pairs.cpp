@@ -4,12 +4,12 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <queue>
 #include <random>
 #include <tuple>
 #include <unordered_map>
 #include <utility>
 
+#include "common/graph_search.h"
 #include "evaluation/cell_key.h"
 
 namespace terramesh::evaluation {
@@ -98,25 +98,15 @@ Links linkSamples(const std::vector<Eigen::Vector3d>& samples, const std::vector
   return links;
 }
 
-double dijkstra(const Links& links, std::uint32_t from, std::uint32_t to) {
-  std::vector<double> best(links.size(), std::numeric_limits<double>::infinity());
-  using Entry = std::pair<double, std::uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
-  best[from] = 0;
-  open.emplace(0.0, from);
-  while (!open.empty()) {
-    const auto [d, u] = open.top();
-    open.pop();
-    if (u == to) return d;
-    if (d > best[u]) continue;
-    for (const auto& [v, w] : links[u]) {
-      if (d + w < best[v]) {
-        best[v] = d + w;
-        open.emplace(best[v], v);
-      }
-    }
-  }
-  return kNaN;
+/// The shortest length over `links` from `from` to `to` (NaN if they are not joined).
+double shortestLength(const Links& links, std::uint32_t from, std::uint32_t to) {
+  const graph::SearchResult search = graph::bestFirstSearch(
+      links.size(), from, to,
+      [&links](std::uint32_t u, const graph::Relax& relax) {
+        for (const auto& [v, w] : links[u]) relax(v, w, 0);
+      },
+      [](std::uint32_t) { return 0.0; });
+  return search.reached ? search.cost[to] : kNaN;
 }
 
 /// Connected components of the `active` samples over `links`: each sample's component (kNone if
@@ -211,7 +201,7 @@ TruthPairs pairsOnObservedTruth(const GroundTruthTraversability& labels, const d
   for (std::size_t attempt = 0; attempt < 100 * config.count && result.pairs.size() < config.count; ++attempt) {
     const std::uint32_t a = largest[pick(random)], b = largest[pick(random)];
     if ((samples[a] - samples[b]).norm() < config.min_distance_m) continue;
-    result.pairs.push_back({samples[a], samples[b], dijkstra(links, a, b)});
+    result.pairs.push_back({samples[a], samples[b], shortestLength(links, a, b)});
   }
   return result;
 }

@@ -3,9 +3,9 @@
 #include <array>
 #include <functional>
 #include <limits>
-#include <queue>
 #include <stdexcept>
 
+#include "common/graph_search.h"
 #include "planning/face_graph.h"
 
 namespace terramesh::planning {
@@ -62,54 +62,30 @@ GraphPath FaceGraph::shortestPath(const SurfaceLocation& start, const SurfaceLoc
     return vertices_[ends[0]] + s * (vertices_[ends[1]] - vertices_[ends[0]]);
   };
 
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> best(edge_nodes + 2, inf);
-  std::vector<std::uint32_t> parent(edge_nodes + 2, kNoFace);
-  std::vector<std::uint32_t> parent_face(edge_nodes + 2, kNoFace);
-  std::vector<std::uint8_t> closed(edge_nodes + 2, 0);
-  using Entry = std::pair<double, std::uint32_t>;  // (g + h, node)
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
-  best[start_node] = 0;
-  open.emplace((goal.point_W - start.point_W).norm(), start_node);
-
-  auto relax_face = [&](std::uint32_t u, const Eigen::Vector3d& pu, std::uint32_t f) {
-    if (f == kNoFace || !walkable_[f]) return;
-    auto relax = [&](std::uint32_t w) {
-      if (closed[w] || w == u) return;
-      const Eigen::Vector3d pw = position(w);
-      const double candidate = best[u] + (pw - pu).norm() * multipliers_[f];
-      if (candidate < best[w]) {
-        best[w] = candidate;
-        parent[w] = u;
-        parent_face[w] = f;
-        open.emplace(candidate + (goal.point_W - pw).norm(), w);
-      }
-    };
-    for (std::uint32_t edge : face_edges_[f]) {
-      for (std::uint32_t j = 0; j < k; ++j) relax(edge * k + j);
-    }
-    if (f == goal.face) relax(goal_node);
-  };
-
-  while (!open.empty()) {
-    const std::uint32_t u = open.top().second;
-    open.pop();
-    if (closed[u]) continue;
-    closed[u] = 1;
-    ++result.expanded;
-    if (u == goal_node) break;
+  // A* over the edge nodes (plus start and goal); an edge's label is the face it crosses.
+  const auto expand = [&](std::uint32_t u, const graph::Relax& relax) {
     const Eigen::Vector3d pu = position(u);
+    auto relax_face = [&](std::uint32_t f) {
+      if (f == kNoFace || !walkable_[f]) return;
+      for (std::uint32_t edge : face_edges_[f]) {
+        for (std::uint32_t j = 0; j < k; ++j) relax(edge * k + j, (position(edge * k + j) - pu).norm() * multipliers_[f], f);
+      }
+      if (f == goal.face) relax(goal_node, (goal.point_W - pu).norm() * multipliers_[f], f);
+    };
     if (u == start_node) {
-      relax_face(u, pu, start.face);
+      relax_face(start.face);
     } else {
-      for (std::uint32_t f : edge_faces_[u / k]) relax_face(u, pu, f);
+      for (std::uint32_t f : edge_faces_[u / k]) relax_face(f);
     }
-  }
-  if (!closed[goal_node]) return result;
+  };
+  const graph::SearchResult search = graph::bestFirstSearch(
+      edge_nodes + 2, start_node, goal_node, expand, [&](std::uint32_t v) { return (goal.point_W - position(v)).norm(); });
+  result.expanded = search.expanded;
+  if (!search.reached) return result;
   std::vector<std::array<Eigen::Vector3d, 2>> ends;
-  for (std::uint32_t node = goal_node; node != kNoFace; node = parent[node]) {
+  for (std::uint32_t node = goal_node; node != graph::SearchResult::kNone; node = search.parent[node]) {
     result.points_W.push_back(position(node));
-    if (parent[node] != kNoFace) result.faces.push_back(parent_face[node]);
+    if (search.parent[node] != graph::SearchResult::kNone) result.faces.push_back(search.parent_label[node]);
     const std::array<std::uint32_t, 2> edge = node < edge_nodes ? edge_vertices_[node / k] : std::array<std::uint32_t, 2>{0, 0};
     ends.push_back({vertices_[edge[0]], vertices_[edge[1]]});
   }

@@ -222,6 +222,13 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
   return result;
 }
 
+std::vector<Eigen::Vector3d> PlanResult::points() const {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(states.size());
+  for (const PathState& state : states) out.push_back(state.location.point_W);
+  return out;
+}
+
 PlanResult planOnFaceGraph(const FaceGraph& graph, const Eigen::Vector3d& start_W, const Eigen::Vector3d& goal_W,
                            const PlannerConfig& config) {
   PlanResult result;

@@ -93,11 +93,19 @@ TEST(OctomapBaselineTest, GroundHeightsStepsAndAPathRoundTheBox) {
   planner.time_budget_s = 0.5;
   planner.time_cap_s = 60;  // found or not must not depend on the machine's load
   planner.snap_radius_m = 0.6;
-  const GridPlanResult result = planOnGrid(grid, {2, 0, 0}, {8, 0, 0}, planner, robot.cost_weight);
+  const GridPlanner grid_planner(grid, planner, robot.cost_weight);
+  const planning::PlanResult result = grid_planner.plan({2, 0, 0}, {8, 0, 0});
   ASSERT_TRUE(result.solved()) << result.reason;
-  for (const Eigen::Vector3d& p : result.points_W) {
+  ASSERT_GE(result.states.size(), 2u);
+  for (const planning::PathState& s : result.states) {
+    const Eigen::Vector3d& p = s.location.point_W;
     EXPECT_FALSE(p.x() > 3.95 && p.x() < 6.05 && p.y() > -1.05 && p.y() < 1.05) << "through the box at " << p.transpose();
+    EXPECT_EQ(s.location.face, planning::FaceGraph::kNoFace);
+    EXPECT_TRUE(s.face_cost >= 0 && s.face_cost <= 1) << s.face_cost;
   }
+  // Headings follow the path: the first state looks towards the second.
+  const Eigen::Vector3d first_step = result.states[1].location.point_W - result.states[0].location.point_W;
+  EXPECT_NEAR(std::remainder(result.states[0].yaw_rad - std::atan2(first_step.y(), first_step.x()), 2 * M_PI), 0, 1e-6);
   EXPECT_GT(result.length_m, 6.0);
   // The box top is an island: unreachable.
   EXPECT_NE(planOnGrid(grid, {2, 0, 0}, {5, 0, 1}, planner, robot.cost_weight).status, planning::PlanStatus::kSolved);

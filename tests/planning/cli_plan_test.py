@@ -56,6 +56,27 @@ class PlanStreetTest(unittest.TestCase):
         count = sqlite3.connect(db).execute("SELECT count(*) FROM runs").fetchone()[0]
         self.assertEqual(count, 6)  # 3 pairs x (planner + graph baseline)
 
+    def test_random_pairs_with_the_graph_planner_plan_with_the_graph(self):
+        out = f"{self.dir}/pairs_graph"
+        result = run(BIN, "plan", f"{self.dir}/map", "--planner", "graph", "--random-pairs", "3", "-o", out, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(f"{out}/plan.txt") as f:
+            self.assertIn("planner graph\n", f.read())
+        rows = read_pairs(out)
+        self.assertEqual(len(rows), 3)
+        for row in rows:
+            # The chosen planner is the graph A* itself: its cost is the graph optimum, exactly.
+            self.assertEqual(row["status"], "solved")
+            self.assertEqual(float(row["cost"]), float(row["graph_cost"]))
+        db = f"{out}/bench.db"
+        result = run("python3", "/usr/bin/ompl_benchmark_statistics", f"{out}/benchmark.log", "-d", db)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        import sqlite3
+        connection = sqlite3.connect(db)
+        self.assertEqual(connection.execute("SELECT count(*) FROM runs").fetchone()[0], 3)
+        names = [r[0] for r in connection.execute("SELECT name FROM plannerConfigs")]
+        self.assertEqual(names, ["graph_astar"])
+
     def test_single_query_outputs(self):
         out = f"{self.dir}/pairs1"
         self.assertEqual(run(BIN, "plan", f"{self.dir}/map", "--random-pairs", "1", *CAP, "-o", out, "--quiet").returncode, 0)

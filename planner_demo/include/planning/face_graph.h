@@ -40,6 +40,8 @@ struct WalkabilityConfig {
 
 /// A point on the surface: a face and a position on it (map frame, map units).
 struct SurfaceLocation {
+  /// The face, or FaceGraph::kNoFace for a point of a path planned on another map (the OctoMap
+  /// baseline's grid).
   std::uint32_t face = 0;
   Eigen::Vector3d point_W = Eigen::Vector3d::Zero();
 };

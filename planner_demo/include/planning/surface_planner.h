@@ -95,6 +95,8 @@ struct PlanResult {
   double first_cost = 0;
   double first_time_s = 0;
   bool solved() const { return status == PlanStatus::kSolved; }
+  /// The points of `states`, in order.
+  std::vector<Eigen::Vector3d> points() const;
 };
 
 /// Plans from `start_W` to `goal_W` (map frame, map units) over the walkable surface of `graph`
