@@ -254,10 +254,7 @@ PathTruth pathTruthFor(const CompareTruth& truth, const std::optional<traversabi
   path_truth.mesh = &*truth.labelled;
   path_truth.bvh = &*truth.bvh;
   path_truth.up_W = truth.labels->up_W;
-  path_truth.max_slope_deg = profile->max_slope_deg;
-  path_truth.footprint_radius_m = profile->footprintCircumradiusM();
-  path_truth.max_step_m = profile->max_step_m;
-  path_truth.min_clearance_m = profile->min_clearance_m;
+  path_truth.config = evaluation::truthCheckConfigFrom(*profile);
   return path_truth;
 }
 

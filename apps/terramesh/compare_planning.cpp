@@ -16,15 +16,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-evaluation::TruthCheckConfig truthCheckConfig(const PathTruth& truth) {
-  evaluation::TruthCheckConfig config;
-  config.footprint_radius_m = truth.footprint_radius_m;
-  config.max_step_m = truth.max_step_m;
-  config.min_clearance_m = truth.min_clearance_m;
-  config.max_slope_deg = truth.max_slope_deg;
-  return config;
-}
-
 }  // namespace
 
 std::string PlanningOutcome::summary() const {
@@ -70,7 +61,7 @@ PlanningOutcome planComparePairs(const traversability::LayeredMesh& map,
   if (truth.mesh && truth.bvh) checker.emplace(*truth.mesh, *truth.bvh);
   evaluation::PathTruth path_truth;
   path_truth.checker = checker ? &*checker : nullptr;
-  path_truth.config = truthCheckConfig(truth);
+  path_truth.config = truth.config;
   path_truth.up_W = truth.up_W;
   path_truth.metres_per_unit = graph.metresPerUnit();
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ends;

@@ -7,6 +7,7 @@
 
 #include "datasets/labeled_mesh.h"
 #include "datasets/triangle_bvh.h"
+#include "evaluation/truth_checker.h"
 #include "evaluation/truth_pairs.h"
 #include "planning/face_graph.h"
 #include "traversability/layered_mesh.h"
@@ -18,9 +19,8 @@ struct PathTruth {
   const datasets::LabeledMesh* mesh = nullptr;
   const datasets::TriangleBvh* bvh = nullptr;
   Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
-  double max_slope_deg = 20;
-  /// The robot's body for the footprint test (RobotProfile: circumscribed radius, step, height).
-  double footprint_radius_m = 0.3, max_step_m = 0.2, min_clearance_m = 1.0;
+  /// The robot's check (evaluation::truthCheckConfigFrom).
+  evaluation::TruthCheckConfig config;
 };
 
 /// How one map did on the pairs (graph A* over its walkable faces, planning::planOnFaceGraph).

@@ -179,11 +179,7 @@ int runPairs(const std::vector<std::string>& args) {
   if (rows.empty()) throw UsageError("pairs: no pairs: no random pairs drawn and no hazards file");
 
   const evaluation::TruthChecker checker(truth, truth_bvh);
-  evaluation::TruthCheckConfig check;
-  check.footprint_radius_m = profile.footprintCircumradiusM();
-  check.max_step_m = profile.max_step_m;
-  check.min_clearance_m = profile.min_clearance_m;
-  check.max_slope_deg = profile.max_slope_deg;
+  const evaluation::TruthCheckConfig check = evaluation::truthCheckConfigFrom(profile);
   std::ostringstream csv;
   csv.precision(10);
   csv << "pair,source,name,start_x,start_y,start_z,goal_x,goal_y,goal_z,reachable,reason,truth_length_m,"

@@ -187,11 +187,7 @@ std::vector<Eigen::Vector3d> readPathCsv(const std::string& file) {
 void checkPaths(const std::vector<std::string>& files, const datasets::SimilarityTransform* sim3,
                 const datasets::LabeledMesh& truth, const Eigen::Vector3d& up,
                 const traversability::RobotProfile& profile, std::ostream& report) {
-  evaluation::TruthCheckConfig config;
-  config.footprint_radius_m = profile.footprintCircumradiusM();
-  config.max_step_m = profile.max_step_m;
-  config.min_clearance_m = profile.min_clearance_m;
-  config.max_slope_deg = profile.max_slope_deg;
+  const evaluation::TruthCheckConfig config = evaluation::truthCheckConfigFrom(profile);
   const datasets::TriangleBvh bvh(truth.mesh);
   const evaluation::TruthChecker checker(truth, bvh);
   std::size_t valid = 0;

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "traversability/robot_profile.h"
+
 namespace terramesh::evaluation {
 namespace {
 
@@ -77,6 +79,15 @@ TruthCheck fail(TruthCheck check, std::string reason) {
 }
 
 }  // namespace
+
+TruthCheckConfig truthCheckConfigFrom(const traversability::RobotProfile& profile) {
+  TruthCheckConfig config;
+  config.footprint_radius_m = profile.footprintCircumradiusM();
+  config.max_step_m = profile.max_step_m;
+  config.min_clearance_m = profile.min_clearance_m;
+  config.max_slope_deg = profile.max_slope_deg;
+  return config;
+}
 
 void TruthCheckConfig::validate() const {
   std::ostringstream problems;

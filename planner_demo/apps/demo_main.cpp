@@ -276,16 +276,6 @@ std::string comparisonTable(const std::string& described, std::size_t pair_count
   return table.str();
 }
 
-/// The truth check of the map's robot (a rectangle as its circumscribed disc).
-evaluation::TruthCheckConfig truthConfig(const traversability::RobotProfile& profile) {
-  evaluation::TruthCheckConfig config;
-  config.footprint_radius_m = profile.footprintCircumradiusM();
-  config.max_step_m = profile.max_step_m;
-  config.min_clearance_m = profile.min_clearance_m;
-  config.max_slope_deg = profile.max_slope_deg;
-  return config;
-}
-
 int run(const Options& o) {
   planning::setOmplLogging(false);
   planning::seedOmpl(o.seed);
@@ -311,7 +301,7 @@ int run(const Options& o) {
   const datasets::TriangleBvh bvh(truth.mesh);
   std::optional<evaluation::TruthChecker> checker;
   if (facts.has_truth) checker.emplace(truth, bvh);
-  const evaluation::PathTruth path_truth{checker ? &*checker : nullptr, truthConfig(map.profile), map.map.up_W,
+  const evaluation::PathTruth path_truth{checker ? &*checker : nullptr, evaluation::truthCheckConfigFrom(map.profile), map.map.up_W,
                                          map.map.metres_per_unit};
 
   planning::PlannerConfig config;

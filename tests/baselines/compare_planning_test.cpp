@@ -31,7 +31,8 @@ traversability::LayeredMesh roadMap(double lethal_x0, double lethal_x1) {
 TEST(ComparePlanningTest, OutcomesAndTheirReasons) {
   const test::PairScene scene;
   const datasets::TriangleBvh bvh(scene.truth.mesh);
-  PathTruth truth{&scene.truth, &bvh, Eigen::Vector3d::UnitZ(), 20};
+  PathTruth truth{&scene.truth, &bvh, Eigen::Vector3d::UnitZ(), {}};
+  truth.config.max_slope_deg = 20;
   planning::WalkabilityConfig walkability;
   walkability.min_lethal_distance_m = 0;
   const std::vector<evaluation::ComparePair> pairs = {{{2, 2, 0}, {18, 2, 0}, 16.0},  // across the road

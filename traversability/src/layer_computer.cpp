@@ -91,6 +91,36 @@ struct ProjectedEdges {
   }
 };
 
+/// A least-squares plane z = a x + b y + d through points added one by one: the six distinct sums
+/// of its symmetric normal matrix and its right-hand side, the origin (0, 0, 0) counted.
+struct PlaneSums {
+  double m00 = 0, m01 = 0, m02 = 0, m11 = 0, m12 = 0, m22 = 1.0;
+  double r0 = 0, r1 = 0, r2 = 0;
+  int used = 1;
+  /// A point (x, y, z) by its products: xx, xy, x, yy, y, x z, y z, z.
+  void add(double xx, double xy, double x, double yy, double y, double x_z, double y_z, double z) {
+    m00 += xx;
+    m01 += xy;
+    m02 += x;
+    m11 += yy;
+    m12 += y;
+    m22 += 1.0;
+    r0 += x_z;
+    r1 += y_z;
+    r2 += z;
+    ++used;
+  }
+  /// (a, b, d), or nullopt if the points do not span a plane.
+  std::optional<Eigen::Vector3d> solve() const {
+    if (used < 3) return std::nullopt;
+    Eigen::Matrix3d m;
+    m << m00, m01, m02, m01, m11, m12, m02, m12, m22;
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(m);
+    if (lu.rank() < 3) return std::nullopt;
+    return Eigen::Vector3d(lu.solve(Eigen::Vector3d(r0, r1, r2)));
+  }
+};
+
 }  // namespace
 
 LayerComputer::LayerComputer(const RobotProfile& profile)
@@ -257,54 +287,20 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   // would tilt towards the upper one and hide part of the jump). Both in one pass. The normal
   // matrices are symmetric: their six distinct sums are accumulated (sample by sample, in order,
   // the same additions as the full matrices'), from the per-sample terms of prepareSamples.
-  double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 1.0;  // the centroid itself: (0, 0, 0)
-  double l00 = 0, l01 = 0, l02 = 0, l11 = 0, l12 = 0, l22 = 1.0;
-  double r0 = 0, r1 = 0, r2 = 0, s0 = 0, s1 = 0, s2 = 0;
-  int all_used = 1, level_used = 1;
+  PlaneSums all, level;  // the centroid itself, (0, 0, 0), counted in both
   for (int i : samples) {
     const SampleTerms& t = terms_[static_cast<std::size_t>(i)];
     if (!(t.flags & kFound)) continue;
     const OffsetTerms& o = offset_terms_[static_cast<std::size_t>(i)];
-    a00 += o.xx;
-    a01 += o.xy;
-    a02 += o.x;
-    a11 += o.yy;
-    a12 += o.y;
-    a22 += 1.0;
-    r0 += t.x_dz;
-    r1 += t.y_dz;
-    r2 += t.dz;
-    ++all_used;
-    if (t.flags & kInLevel) {
-      l00 += o.xx;
-      l01 += o.xy;
-      l02 += o.x;
-      l11 += o.yy;
-      l12 += o.y;
-      l22 += 1.0;
-      s0 += t.x_dz;
-      s1 += t.y_dz;
-      s2 += t.dz;
-      ++level_used;
-    }
+    all.add(o.xx, o.xy, o.x, o.yy, o.y, t.x_dz, t.y_dz, t.dz);
+    if (t.flags & kInLevel) level.add(o.xx, o.xy, o.x, o.yy, o.y, t.x_dz, t.y_dz, t.dz);
   }
-  Eigen::Matrix3d all_matrix, level_matrix;
-  all_matrix << a00, a01, a02, a01, a11, a12, a02, a12, a22;
-  level_matrix << l00, l01, l02, l01, l11, l12, l02, l12, l22;
-  const Eigen::Vector3d all_rhs(r0, r1, r2), level_rhs(s0, s1, s2);
-  // The plane, or nullopt if the points do not span one.
-  const auto solve = [](const Eigen::Matrix3d& m, const Eigen::Vector3d& rhs, int used) -> std::optional<Eigen::Vector3d> {
-    if (used < 3) return std::nullopt;
-    const Eigen::FullPivLU<Eigen::Matrix3d> lu(m);
-    if (lu.rank() < 3) return std::nullopt;
-    return Eigen::Vector3d(lu.solve(rhs));
-  };
   HeadingResult out;
-  const Eigen::Vector3d all_plane = solve(all_matrix, all_rhs, all_used).value_or(Eigen::Vector3d(ref_a, ref_b, 0.0));
+  const Eigen::Vector3d all_plane = all.solve().value_or(Eigen::Vector3d(ref_a, ref_b, 0.0));
   // The step from the level's plane (degenerate levels: the plane over all samples). Steep faces
   // (the risers of steps) measure the height range around them.
   const Eigen::Vector3d level_plane =
-      steep ? Eigen::Vector3d::Zero() : solve(level_matrix, level_rhs, level_used).value_or(all_plane);
+      steep ? Eigen::Vector3d::Zero() : level.solve().value_or(all_plane);
   // Residuals of the centroid and every found sample: RMS against the plane over all samples,
   // range against the level's plane; and the supported samples.
   double sum_sq = all_plane.z() * all_plane.z(), step_min = -level_plane.z(), step_max = -level_plane.z();

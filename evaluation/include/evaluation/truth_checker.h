@@ -9,6 +9,10 @@
 #include "datasets/labeled_mesh.h"
 #include "datasets/triangle_bvh.h"
 
+namespace terramesh::traversability {
+struct RobotProfile;
+}
+
 namespace terramesh::evaluation {
 
 /// The robot and the tolerances a path is judged with. Lengths in metres, angles in degrees.
@@ -38,6 +42,10 @@ struct TruthCheckConfig {
   /// @throw std::invalid_argument listing every problem, each as "field: value (expected ...)".
   void validate() const;
 };
+
+/// The check of a robot profile's robot: its footprint's circumscribed radius, step, height and
+/// slope; the tolerances at their defaults.
+TruthCheckConfig truthCheckConfigFrom(const traversability::RobotProfile& profile);
 
 /// Whether a path is drivable on the true scene.
 struct TruthCheck {
