@@ -355,6 +355,31 @@ BuildContext buildContext(const datasets::SlamStream& stream, const MesherOption
   return context;
 }
 
+/// The start-goal pairs every map is planned on (none without a robot; drawPairs), said in `setup`.
+std::vector<evaluation::ComparePair> comparePairs(const CompareOptions& o,
+                                                  const std::optional<traversability::RobotProfile>& profile,
+                                                  const mesher::MesherConfig& proposed,
+                                                  const std::vector<Eigen::Vector3d>& cameras_T,
+                                                  const Eigen::Vector3d& up_T, CompareTruth& truth,
+                                                  CompareSetup& setup) {
+  std::vector<evaluation::ComparePair> pairs;
+  if (profile) pairs = drawPairs(o, *profile, proposed, cameras_T, up_T, truth, setup);
+  if (o.allow_unknown && !pairs.empty()) {
+    setup.pairs += "; planning may cross unknown faces (--allow-unknown, unknown cost 1: the dearest free cost)";
+  }
+  return pairs;
+}
+
+/// A map's surface in the truth's frame, in metres: through the similarity when one is given, else
+/// scaled.
+mesher::TriangleMesh inTruthFrame(const mesher::TriangleMesh& mesh,
+                                  const std::optional<datasets::SimilarityTransform>& sim3, double metres_per_unit) {
+  if (sim3) return sim3->apply(mesh);
+  mesher::TriangleMesh scaled = mesh;
+  for (Eigen::Vector3d& v : scaled.vertices) v *= metres_per_unit;
+  return scaled;
+}
+
 /// The stream's latest keyframe centres in the truth's frame (metres).
 std::vector<Eigen::Vector3d> camerasInTruth(const datasets::SlamStream& stream,
                                             const std::optional<datasets::SimilarityTransform>& sim3,
@@ -416,27 +441,20 @@ int runCompare(const std::vector<std::string>& args) {
   std::vector<CompareRow> rows = buildMaps(specs, buildContext(stream, mesher_options, proposed, up_W, out), say);
 
   // Everything is measured in the truth's frame, in metres.
-  const auto toTruth = [&](const mesher::TriangleMesh& mesh) -> mesher::TriangleMesh {
-    if (sim3) return sim3->apply(mesh);
-    mesher::TriangleMesh scaled = mesh;
-    for (Eigen::Vector3d& v : scaled.vertices) v *= proposed.metres_per_unit;
-    return scaled;
+  const double metres_per_unit = proposed.metres_per_unit;
+  const auto toTruth = [&sim3, metres_per_unit](const mesher::TriangleMesh& mesh) {
+    return inTruthFrame(mesh, sim3, metres_per_unit);
   };
   const Eigen::Vector3d up_T = sim3 ? Eigen::Vector3d((sim3->rotation * up_W).normalized()) : up_W;
   CompareSetup setup;
   setup.command = commandLine(args);
   setup.input = o.input;
   setup.keyframes = stream.keyframeEventCount();
-  setup.metres_per_unit = proposed.metres_per_unit;
+  setup.metres_per_unit = metres_per_unit;
   CompareTruth truth;
   readGeometryTruth(o, views_path, stream, sim3, proposed.metres_per_unit, truth, setup, say);
-  std::vector<evaluation::ComparePair> pairs;
-  if (profile) {
-    pairs = drawPairs(o, *profile, proposed, camerasInTruth(stream, sim3, proposed.metres_per_unit), up_T, truth, setup);
-  }
-  if (o.allow_unknown && !pairs.empty()) {
-    setup.pairs += "; planning may cross unknown faces (--allow-unknown, unknown cost 1: the dearest free cost)";
-  }
+  const std::vector<evaluation::ComparePair> pairs =
+      comparePairs(o, profile, proposed, camerasInTruth(stream, sim3, metres_per_unit), up_T, truth, setup);
 
   const MeasureContext measure = measureContext(o, truth, profile, pairs, up_T, out);
   for (CompareRow& row : rows) {

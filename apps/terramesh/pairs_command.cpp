@@ -144,6 +144,32 @@ std::optional<std::filesystem::path> besideTruth(const PairsOptions& options, co
   return std::nullopt;
 }
 
+/// pairs.csv: every row with the truth's answer and the straight line's check; counts the
+/// reachable ones into `reachable`.
+std::string pairsCsv(const std::vector<PairRow>& rows, const datasets::LabeledMesh& truth,
+                     const datasets::TriangleBvh& truth_bvh, const evaluation::TruthReachability& reach,
+                     const Eigen::Vector3d& up, const traversability::RobotProfile& profile, std::size_t& reachable) {
+  const evaluation::TruthChecker checker(truth, truth_bvh);
+  const evaluation::TruthCheckConfig check = evaluation::truthCheckConfigFrom(profile);
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "pair,source,name,start_x,start_y,start_z,goal_x,goal_y,goal_z,reachable,reason,truth_length_m,"
+         "straight_valid,straight_reason\n";
+  reachable = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const PairRow& r = rows[i];
+    const evaluation::ReachAnswer answer = reach.connects(r.start_W, r.goal_W);
+    const evaluation::TruthCheck straight =
+        checker.check(drapedLine(truth_bvh, r.start_W, r.goal_W, up, check.spacing_m, 2.5), up, 1.0, check);
+    reachable += answer.reachable() ? 1 : 0;
+    csv << i << ',' << r.source << ',' << r.name << ',' << r.start_W.x() << ',' << r.start_W.y() << ','
+        << r.start_W.z() << ',' << r.goal_W.x() << ',' << r.goal_W.y() << ',' << r.goal_W.z() << ','
+        << (answer.reachable() ? 1 : 0) << ',' << evaluation::toString(answer.status) << ',' << r.truth_length_m
+        << ',' << (straight.valid ? 1 : 0) << ",\"" << straight.reason << "\"\n";
+  }
+  return csv.str();
+}
+
 }  // namespace
 
 int runPairs(const std::vector<std::string>& args) {
@@ -178,25 +204,8 @@ int runPairs(const std::vector<std::string>& args) {
   }
   if (rows.empty()) throw UsageError("pairs: no pairs: no random pairs drawn and no hazards file");
 
-  const evaluation::TruthChecker checker(truth, truth_bvh);
-  const evaluation::TruthCheckConfig check = evaluation::truthCheckConfigFrom(profile);
-  std::ostringstream csv;
-  csv.precision(10);
-  csv << "pair,source,name,start_x,start_y,start_z,goal_x,goal_y,goal_z,reachable,reason,truth_length_m,"
-         "straight_valid,straight_reason\n";
   std::size_t reachable = 0;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const PairRow& r = rows[i];
-    const evaluation::ReachAnswer answer = reach.connects(r.start_W, r.goal_W);
-    const evaluation::TruthCheck straight =
-        checker.check(drapedLine(truth_bvh, r.start_W, r.goal_W, up, check.spacing_m, 2.5), up, 1.0, check);
-    reachable += answer.reachable() ? 1 : 0;
-    csv << i << ',' << r.source << ',' << r.name << ',' << r.start_W.x() << ',' << r.start_W.y() << ','
-        << r.start_W.z() << ',' << r.goal_W.x() << ',' << r.goal_W.y() << ',' << r.goal_W.z() << ','
-        << (answer.reachable() ? 1 : 0) << ',' << evaluation::toString(answer.status) << ',' << r.truth_length_m
-        << ',' << (straight.valid ? 1 : 0) << ",\"" << straight.reason << "\"\n";
-  }
-  writeFileAtomically(options.output, csv.str());
+  writeFileAtomically(options.output, pairsCsv(rows, truth, truth_bvh, reach, up, profile, reachable));
   if (!options.quiet) {
     std::printf("%zu pairs for %s, %zu reachable on the truth (%zu traversable components); wrote %s\n", rows.size(),
                 profile.name.c_str(), reachable, reach.componentCount(), options.output.c_str());

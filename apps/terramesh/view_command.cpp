@@ -68,6 +68,30 @@ fs::path findOctomap(const fs::path& run_dir) {
   return found.empty() ? fs::path() : found.front();
 }
 
+/// What the viewer serves beside the run folder's own files: the trajectory and points from the
+/// stream when the folder lacks them, and voxels from its OctoMap file when it has no voxels.bin.
+RunExtras runExtras(const fs::path& run_dir, const std::optional<std::string>& stream_file) {
+  RunExtras extras;
+  const bool has_trajectory = fs::is_regular_file(run_dir / "trajectory.csv");
+  const bool has_points = fs::is_regular_file(run_dir / "points.ply");
+  if (!has_trajectory || !has_points) {
+    const fs::path stream_path = findStream(stream_file, run_dir);
+    if (!stream_path.empty()) {
+      const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
+      if (!has_trajectory) extras.trajectory_csv = trajectoryCsv(stream);
+      if (!has_points) extras.points_ply = pointsPly(stream);
+    }
+  }
+  if (!fs::is_regular_file(run_dir / "voxels.bin")) {
+    const fs::path octomap_file = findOctomap(run_dir);
+    if (!octomap_file.empty()) {
+      extras.voxels_bin = octomapToVoxels(octomap_file);
+      extras.voxels_source = octomap_file.filename().string();
+    }
+  }
+  return extras;
+}
+
 }  // namespace
 
 int runView(const std::vector<std::string>& args) {
@@ -104,25 +128,7 @@ int runView(const std::vector<std::string>& args) {
     return kExitFailure;
   }
 
-  RunExtras extras;
-  const bool has_trajectory = fs::is_regular_file(config.run_dir / "trajectory.csv");
-  const bool has_points = fs::is_regular_file(config.run_dir / "points.ply");
-  if (!has_trajectory || !has_points) {
-    const fs::path stream_path = findStream(stream_file, config.run_dir);
-    if (!stream_path.empty()) {
-      const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
-      if (!has_trajectory) extras.trajectory_csv = trajectoryCsv(stream);
-      if (!has_points) extras.points_ply = pointsPly(stream);
-    }
-  }
-  if (!fs::is_regular_file(config.run_dir / "voxels.bin")) {
-    const fs::path octomap_file = findOctomap(config.run_dir);
-    if (!octomap_file.empty()) {
-      extras.voxels_bin = octomapToVoxels(octomap_file);
-      extras.voxels_source = octomap_file.filename().string();
-    }
-  }
-
+  const RunExtras extras = runExtras(config.run_dir, stream_file);
   serveRun(config, extras, [&](int bound_port) {
     const std::string url = "http://127.0.0.1:" + std::to_string(bound_port) + "/";
     std::cout << "terramesh view: serving " << config.run_dir.string() << " at " << url << "  (Ctrl-C to stop)"
