@@ -1,6 +1,7 @@
 #include "evaluation/path_trials.h"
 
 #include <stdexcept>
+#include <utility>
 
 namespace terramesh::evaluation {
 
