@@ -11,6 +11,7 @@ std::vector<PlannerTrials> runPathTrials(const std::vector<const planning::PathP
   for (const planning::PathPlanner* planner : planners) {
     if (planner == nullptr) throw std::invalid_argument("runPathTrials: a planner is null");
   }
+  // Checked again by every check; here so that a bad config fails before any planning time is spent.
   if (truth.checker != nullptr) truth.config.validate();
   std::vector<PlannerTrials> out(planners.size());
   for (const auto& [start, goal] : pairs) {
