@@ -323,7 +323,7 @@ MeasureContext measureContext(const CompareOptions& o, const CompareTruth& truth
   measure.profile = profile ? &*profile : nullptr;
   measure.pairs = &pairs;
   measure.path_truth = pathTruthFor(truth, profile);
-  if (profile) measure.walkability.min_lethal_distance_m = profile->inscribed_radius_m;
+  if (profile) measure.walkability = planning::walkabilityFor(*profile);
   measure.walkability.allow_unknown = o.allow_unknown;
   measure.up_T = up_T;
   measure.topview_dir = out / "topview";

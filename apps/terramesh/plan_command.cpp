@@ -216,8 +216,7 @@ int runPlan(const std::vector<std::string>& args) {
   }
   const planning::PlannerConfig config = plannerConfig(o);
   const traversability::MapDirectory map = loadMap(o);
-  planning::WalkabilityConfig walkability;
-  walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
+  planning::WalkabilityConfig walkability = planning::walkabilityFor(map.profile);
   walkability.allow_unknown = o.allow_unknown;
   walkability.unknown_cost = o.unknown_cost;
   walkability.allow_uncertain = o.allow_uncertain;

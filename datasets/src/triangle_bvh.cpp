@@ -204,6 +204,23 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
   return true;
 }
 
+/// A faces-within query in flight: the radius stays fixed (widened by the float slack for
+/// Embree); each face offered is measured in double.
+struct RangeQuery {
+  const std::vector<Triangle>* triangles = nullptr;
+  Eigen::Vector3d centre;
+  double radius_sq = 0.0;
+  std::vector<std::uint32_t> faces;
+};
+
+bool rangeCallback(RTCPointQueryFunctionArguments* args) {
+  auto& state = *static_cast<RangeQuery*>(args->userPtr);
+  const Triangle& tri = (*state.triangles)[args->primID];
+  const Eigen::Vector3d point = geometry::closestPointOnTriangle(state.centre, tri.v0, tri.v1, tri.v2);
+  if ((point - state.centre).squaredNorm() <= state.radius_sq) state.faces.push_back(args->primID);
+  return false;
+}
+
 }  // namespace
 
 struct TriangleBvh::Impl {
@@ -372,6 +389,30 @@ SurfacePoint TriangleBvh::closestPoint(const Eigen::Vector3d& query) const {
   if (!std::isfinite(state.best_d2)) throw std::logic_error("TriangleBvh::closestPoint: Embree offered no face");
   state.best.distance = std::sqrt(state.best_d2);
   return state.best;
+}
+
+std::vector<std::uint32_t> TriangleBvh::facesWithin(const Eigen::Vector3d& centre, double radius) const {
+  if (!centre.allFinite() || !std::isfinite(radius)) {
+    throw std::invalid_argument("TriangleBvh::facesWithin: centre and radius must be finite");
+  }
+  if (!impl_->scene || radius < 0.0) return {};
+  const Eigen::Vector3d local = centre - impl_->centre;
+  RangeQuery state;
+  state.triangles = &impl_->triangles;
+  state.centre = centre;
+  state.radius_sq = radius * radius;
+  RTCPointQuery point_query{};
+  point_query.x = static_cast<float>(local.x());
+  point_query.y = static_cast<float>(local.y());
+  point_query.z = static_cast<float>(local.z());
+  point_query.time = 0.0f;
+  point_query.radius = roundedUp(radius + impl_->slackFor(local.cwiseAbs().maxCoeff() + radius));
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(impl_->scene, &point_query, &context, rangeCallback, &state);
+  std::sort(state.faces.begin(), state.faces.end());
+  state.faces.erase(std::unique(state.faces.begin(), state.faces.end()), state.faces.end());
+  return state.faces;
 }
 
 }  // namespace terramesh::datasets

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "path_body.h"
 #include "traversability/robot_profile.h"
 
 namespace terramesh::evaluation {
@@ -83,6 +84,10 @@ TruthCheck fail(TruthCheck check, std::string reason) {
 TruthCheckConfig truthCheckConfigFrom(const traversability::RobotProfile& profile) {
   TruthCheckConfig config;
   config.footprint_radius_m = profile.footprintCircumradiusM();
+  if (profile.footprint == traversability::FootprintShape::kRectangle) {
+    config.footprint_length_m = profile.footprint_length_m;
+    config.footprint_width_m = profile.footprint_width_m;
+  }
   config.max_step_m = profile.max_step_m;
   config.min_clearance_m = profile.min_clearance_m;
   config.max_slope_deg = profile.max_slope_deg;
@@ -98,6 +103,12 @@ void TruthCheckConfig::validate() const {
     if (!(value >= 0.0) || !std::isfinite(value)) problems << name << ": " << value << " (expected >= 0); ";
   };
   positive("footprint_radius_m", footprint_radius_m);
+  nonNegative("footprint_length_m", footprint_length_m);
+  nonNegative("footprint_width_m", footprint_width_m);
+  if ((footprint_length_m > 0.0) != (footprint_width_m > 0.0)) {
+    problems << "footprint_length_m, footprint_width_m: " << footprint_length_m << ", " << footprint_width_m
+             << " (expected both > 0, a rectangle, or both 0, a disc); ";
+  }
   nonNegative("max_step_m", max_step_m);
   positive("min_clearance_m", min_clearance_m);
   if (std::isfinite(max_step_m) && std::isfinite(min_clearance_m) && min_clearance_m < max_step_m) {
@@ -156,10 +167,10 @@ TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const
   check.samples = samples.size();
   if (samples.empty()) return check;
 
-  const datasets::TriangleBvh& obstacle_bvh = obstacle_bvh_;
-  const double radius_m = config.footprint_radius_m;
-  const int slices =
-      1 + static_cast<int>(std::ceil((config.min_clearance_m - config.max_step_m) / config.body_slice_m - 1e-9));
+  // The heading of travel at each sample (a rectangle's body turns with it).
+  const std::vector<Eigen::Vector3d> headings =
+      config.rectangle() ? internal::travelHeadings(samples, up, 0.5 * config.footprint_length_m * unit)
+                         : std::vector<Eigen::Vector3d>{};
   const std::string tolerance_note = " (tolerance " + metres(config.vertical_tolerance_m) +
                                      "; the path lies on our reconstructed surface, so this is also the "
                                      "reconstruction error there)";
@@ -197,22 +208,13 @@ TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const
           << truth.slope_deg[face] - config.max_slope_deg << " deg) under the path at " << at(p);
       return fail(check, out.str());
     }
-    // 4. The body: no non-drivable face in the cylinder above the true ground.
-    if (obstacle_bvh.faceCount() > 0) {
-      for (int s = 0; s < slices; ++s) {
-        const double h_m = std::min(config.max_step_m + s * config.body_slice_m, config.min_clearance_m);
-        const datasets::SurfacePoint q = obstacle_bvh.closestPoint(g + h_m * unit * up);
-        const Eigen::Vector3d d = q.point - g;
-        const double height_m = d.dot(up) * metres_per_unit;
-        const double across_m = (d - d.dot(up) * up).norm() * metres_per_unit;
-        if (height_m > config.max_step_m && height_m < config.min_clearance_m && across_m < radius_m) {
-          return fail(check, "true " + label(truth, obstacle_truth_face_[q.face]) + " face " + metres(across_m) +
-                                 " from the path at " + at(p) + ", inside the " + metres(radius_m) +
-                                 " footprint by " + metres(radius_m - across_m) + ", " + metres(height_m) +
-                                 " above the true ground (body from " + metres(config.max_step_m) + " to " +
-                                 metres(config.min_clearance_m) + "), at " + at(q.point));
-        }
-      }
+    // 4. The body: no non-drivable face in it above the true ground.
+    if (obstacle_bvh_.faceCount() > 0) {
+      const std::string body =
+          headings.empty()
+              ? discFailure(p, g, up, metres_per_unit, config)
+              : boxFailure(p, g, up, headings[i > 0 ? i - 1 : 0], headings[i], metres_per_unit, config);
+      if (!body.empty()) return fail(check, body);
     }
     // 5. Crossing the true surface between samples.
     const Eigen::Vector3d lift = config.crossing_lift_m * unit * up;
@@ -222,6 +224,73 @@ TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const
     }
   }
   return check;
+}
+
+std::string TruthChecker::discFailure(const Eigen::Vector3d& p, const Eigen::Vector3d& g, const Eigen::Vector3d& up,
+                                      double metres_per_unit, const TruthCheckConfig& config) const {
+  const double unit = 1.0 / metres_per_unit;
+  const double radius_m = config.footprint_radius_m;
+  const int slices =
+      1 + static_cast<int>(std::ceil((config.min_clearance_m - config.max_step_m) / config.body_slice_m - 1e-9));
+  for (int s = 0; s < slices; ++s) {
+    const double h_m = std::min(config.max_step_m + s * config.body_slice_m, config.min_clearance_m);
+    const datasets::SurfacePoint q = obstacle_bvh_.closestPoint(g + h_m * unit * up);
+    const Eigen::Vector3d d = q.point - g;
+    const double height_m = d.dot(up) * metres_per_unit;
+    const double across_m = (d - d.dot(up) * up).norm() * metres_per_unit;
+    if (height_m > config.max_step_m && height_m < config.min_clearance_m && across_m < radius_m) {
+      return "true " + label(truth_, obstacle_truth_face_[q.face]) + " face " + metres(across_m) + " from the path at " +
+             at(p) + ", inside the " + metres(radius_m) + " footprint by " + metres(radius_m - across_m) + ", " +
+             metres(height_m) + " above the true ground (body from " + metres(config.max_step_m) + " to " +
+             metres(config.min_clearance_m) + "), at " + at(q.point);
+    }
+  }
+  return {};
+}
+
+std::string TruthChecker::boxFailure(const Eigen::Vector3d& p, const Eigen::Vector3d& g, const Eigen::Vector3d& up,
+                                     const Eigen::Vector3d& from, const Eigen::Vector3d& to, double metres_per_unit,
+                                     const TruthCheckConfig& config) const {
+  const double unit = 1.0 / metres_per_unit;
+  internal::BodyBox box;
+  box.base = g;
+  box.up = up;
+  box.half_length = 0.5 * config.footprint_length_m * unit;
+  box.half_width = 0.5 * config.footprint_width_m * unit;
+  box.bottom = config.max_step_m * unit;
+  box.top = config.min_clearance_m * unit;
+  // Headings close enough that the corners move at most spacing_m between them.
+  const double turn = internal::turnAngle(from, to, up);
+  const double corner_m = std::hypot(0.5 * config.footprint_length_m, 0.5 * config.footprint_width_m);
+  // (A turn that moves the corners by less than a micrometre is none: rounding of straight pieces.)
+  const double sweep_m = std::abs(turn) * corner_m;
+  const int steps = sweep_m < 1e-6 ? 0 : static_cast<int>(std::ceil(sweep_m / config.spacing_m));
+  for (int k = 0; k <= steps; ++k) {
+    box.ahead = steps > 0 ? internal::turned(from, up, turn * k / steps) : to;
+    for (const std::uint32_t f : obstacle_bvh_.facesWithin(box.centre(), box.circumradius())) {
+      const std::uint32_t face = obstacle_truth_face_[f];
+      const auto& corners = truth_.mesh.faces[face];
+      const auto& v = truth_.mesh.vertices;
+      const auto q = internal::triangleInBox(box, v[corners[0]], v[corners[1]], v[corners[2]]);
+      if (!q) continue;
+      const Eigen::Vector3d l = box.local(*q) * metres_per_unit;
+      std::string turning;
+      if (k < steps) {  // met between the previous heading and this sample's
+        std::ostringstream out;
+        out.precision(3);
+        out << ", turning by " << std::abs(turn) * 180.0 / M_PI << " deg there";
+        turning = out.str();
+      }
+      // Printed to 0.01 m: a point within rounding of the axis reads as ahead of and left of it.
+      return "true " + label(truth_, face) + " face inside the " + metres(config.footprint_length_m) + " x " +
+             metres(config.footprint_width_m) + " footprint turned to the heading of travel" + turning + ": " +
+             metres(std::abs(l.x())) + (l.x() > -0.005 ? " ahead of" : " behind") + " and " + metres(std::abs(l.y())) +
+             (l.y() > -0.005 ? " left of" : " right of") + " the path at " + at(p) + ", " + metres(l.z()) +
+             " above the true ground (body from " + metres(config.max_step_m) + " to " +
+             metres(config.min_clearance_m) + "), at " + at(*q);
+    }
+  }
+  return {};
 }
 
 }  // namespace terramesh::evaluation

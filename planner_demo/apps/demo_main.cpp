@@ -281,8 +281,7 @@ int run(const Options& o) {
   planning::seedOmpl(o.seed);
   std::filesystem::create_directories(o.out);
   const traversability::MapDirectory map = traversability::readMapDirectory(o.map);
-  planning::WalkabilityConfig walkability;
-  walkability.min_lethal_distance_m = map.profile.inscribed_radius_m;
+  planning::WalkabilityConfig walkability = planning::walkabilityFor(map.profile);
   walkability.allow_unknown = o.allow_unknown;
   const auto graph_started = Clock::now();
   const planning::FaceGraph graph(map.map, walkability);

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "common/closest_point.h"
+#include "common/plan_frame.h"
 
 namespace terramesh::planning {
 
@@ -24,6 +25,7 @@ void WalkabilityConfig::validate() const {
     problems << " max_face_tilt_deg: " << max_face_tilt_deg << " (expected in (0, 90]);";
   }
   if (!(unknown_cost >= 0 && unknown_cost <= 1)) problems << " unknown_cost: " << unknown_cost << " (expected in [0, 1]);";
+  if (heading_count < 0 || heading_count > 32) problems << " heading_count: " << heading_count << " (expected in [0, 32]);";
   const std::string text = problems.str();
   if (!text.empty()) throw std::invalid_argument("WalkabilityConfig:" + text);
 }
@@ -52,6 +54,9 @@ FaceGraph::FaceGraph(const traversability::LayeredMesh& map, const WalkabilityCo
   const double up_norm = map.up_W.norm();
   if (!(up_norm > 0) || !map.up_W.allFinite()) throw std::invalid_argument("FaceGraph: up_W must be a non-zero vector");
   up_W_ = map.up_W / up_norm;
+  const geometry::PlanFrame frame = geometry::planFrame(up_W_);
+  heading_e1_ = frame.e1;
+  heading_e2_ = frame.e2;
   metres_per_unit_ = map.metres_per_unit;
   for (std::size_t f = 0; f < faces_.size(); ++f) {
     for (std::uint32_t v : faces_[f]) {
@@ -64,6 +69,29 @@ FaceGraph::FaceGraph(const traversability::LayeredMesh& map, const WalkabilityCo
   computeWalkability(map);
   computeNeighbours();
   computeComponents();
+}
+
+WalkabilityConfig walkabilityFor(const traversability::RobotProfile& profile) {
+  WalkabilityConfig config;
+  config.min_lethal_distance_m = profile.inscribed_radius_m;
+  if (profile.footprint == traversability::FootprintShape::kRectangle) config.heading_count = profile.contact_headings;
+  return config;
+}
+
+bool FaceGraph::headingFits(std::uint32_t f, const Eigen::Vector3d& direction_W) const {
+  const std::uint32_t fits = layers_[f].heading_fits;
+  const int n = config_.heading_count;
+  if (n == 0 || fits == 0) return true;
+  const double x = direction_W.dot(heading_e1_), y = direction_W.dot(heading_e2_);
+  if (x == 0 && y == 0) return true;  // no horizontal travel
+  // Position among the judged headings, over half a turn (a rectangle turned by 180 deg is the same).
+  double position = std::atan2(y, x) / M_PI * n;
+  position = std::fmod(position, static_cast<double>(n));
+  if (position < 0) position += n;
+  const int lo = static_cast<int>(std::floor(position)) % n;
+  const int hi = (lo + 1) % n;
+  const bool on_lo = position - std::floor(position) < 1e-9;
+  return (fits >> lo & 1u) != 0 && (on_lo || (fits >> hi & 1u) != 0);
 }
 
 double FaceGraph::plannedCost(std::uint32_t f) const {

@@ -15,8 +15,10 @@ namespace {
 /// sweep (coordinate descent on a convex function: the cost is a sum of weighted norms of affine
 /// functions of the edge parameters), so the polyline becomes the cheapest one through the same
 /// sequence of edges. `ends[i]` are the edge end points of point i (unused for the first and last).
+/// A move is taken only where `allowed(i, p)` holds for point i at p (the headings of travel).
 void straighten(std::vector<Eigen::Vector3d>& points, const std::vector<std::array<Eigen::Vector3d, 2>>& ends,
-                const std::vector<double>& weights) {
+                const std::vector<double>& weights,
+                const std::function<bool(std::size_t, const Eigen::Vector3d&)>& allowed) {
   auto piece_cost = [&](std::size_t i, const Eigen::Vector3d& p) {
     return (p - points[i - 1]).norm() * weights[i - 1] + (points[i + 1] - p).norm() * weights[i];
   };
@@ -32,7 +34,7 @@ void straighten(std::vector<Eigen::Vector3d>& points, const std::vector<std::arr
         else lo = m1;
       }
       const Eigen::Vector3d candidate = a + 0.5 * (lo + hi) * (b - a);
-      if (piece_cost(i, candidate) < piece_cost(i, points[i])) {
+      if (piece_cost(i, candidate) < piece_cost(i, points[i]) && allowed(i, candidate)) {
         moved = std::max(moved, (candidate - points[i]).norm());
         points[i] = candidate;
       }
@@ -67,10 +69,14 @@ GraphPath FaceGraph::shortestPath(const SurfaceLocation& start, const SurfaceLoc
     const Eigen::Vector3d pu = position(u);
     auto relax_face = [&](std::uint32_t f) {
       if (f == kNoFace || !walkable_[f]) return;
+      // The piece across f from u to v, at the heading of travel it drives.
+      const auto relax_piece = [&](std::uint32_t v, const Eigen::Vector3d& pv) {
+        if (headingFits(f, pv - pu)) relax(v, (pv - pu).norm() * multipliers_[f], f);
+      };
       for (std::uint32_t edge : face_edges_[f]) {
-        for (std::uint32_t j = 0; j < k; ++j) relax(edge * k + j, (position(edge * k + j) - pu).norm() * multipliers_[f], f);
+        for (std::uint32_t j = 0; j < k; ++j) relax_piece(edge * k + j, position(edge * k + j));
       }
-      if (f == goal.face) relax(goal_node, (goal.point_W - pu).norm() * multipliers_[f], f);
+      if (f == goal.face) relax_piece(goal_node, goal.point_W);
     };
     if (u == start_node) {
       relax_face(start.face);
@@ -94,7 +100,12 @@ GraphPath FaceGraph::shortestPath(const SurfaceLocation& start, const SurfaceLoc
   std::reverse(ends.begin(), ends.end());
   std::vector<double> weights;
   for (std::uint32_t f : result.faces) weights.push_back(multipliers_[f]);
-  straighten(result.points_W, ends, weights);
+  // Point i joins piece i - 1 (on faces[i - 1]) and piece i (on faces[i]).
+  const auto allowed = [&](std::size_t i, const Eigen::Vector3d& p) {
+    return headingFits(result.faces[i - 1], p - result.points_W[i - 1]) &&
+           headingFits(result.faces[i], result.points_W[i + 1] - p);
+  };
+  straighten(result.points_W, ends, weights, allowed);
   double length = 0, cost = 0;
   for (std::size_t i = 1; i < result.points_W.size(); ++i) {
     const double piece = (result.points_W[i] - result.points_W[i - 1]).norm();

@@ -70,6 +70,9 @@ SurfaceWalk FaceGraph::walk(const SurfaceLocation& from, const SurfaceLocation& 
   SurfaceLocation current = from;
   int entry_edge = -1;
   int idle_steps = 0;
+  // The heading of travel: straight at the target.
+  const Eigen::Vector3d travel = to.point_W - from.point_W;
+  const auto passable = [&](std::uint32_t f) { return walkable_[f] && headingFits(f, travel); };
   auto finish = [&](WalkStop stop) {
     out.stop = stop;
     out.length_m = length * metres_per_unit_;
@@ -86,7 +89,7 @@ SurfaceWalk FaceGraph::walk(const SurfaceLocation& from, const SurfaceLocation& 
   for (std::size_t steps = 0; steps < kMaxSteps; ++steps) {
     const std::uint32_t f = current.face;
     if (f >= faces_.size()) return finish(WalkStop::kBoundary);
-    if (require_walkable && !walkable_[f]) return finish(WalkStop::kBlocked);
+    if (require_walkable && !passable(f)) return finish(WalkStop::kBlocked);
     if (f == to.face) {
       step(to, f);
       return finish(WalkStop::kReached);
@@ -122,7 +125,7 @@ SurfaceWalk FaceGraph::walk(const SurfaceLocation& from, const SurfaceLocation& 
       }
       const double off_plane = std::abs((to.point_W - current.point_W).dot(n)) * metres_per_unit_;
       if (to.face < faces_.size() && shareVertex(t, faces_[to.face]) && off_plane <= kNeighbourPlaneToleranceM &&
-          (!require_walkable || walkable_[to.face])) {
+          (!require_walkable || passable(to.face))) {
         // Over the shared edge (or vertex) at its cheapest point, so both pieces stay on their faces.
         step(SurfaceLocation{to.face, sharedCrossing(t, faces_[to.face], current.point_W, to.point_W)}, f);
         step(to, to.face);

@@ -4,7 +4,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "evaluation/truth_checker.h"
@@ -190,6 +192,83 @@ TEST(GroundTruthCheck, CrossingALowWallBetweenSamplesFails) {
   EXPECT_THAT(check.reason, HasSubstr("crosses the true surface between (-0.5, 0, 0) and (0.5, 0, 0)"));
 }
 
+/// legged: a 1.1 x 0.5 m rectangle (circumscribed radius 0.60 m), 0.3 m step, 1 m high.
+TruthCheckConfig legged() {
+  TruthCheckConfig config;
+  config.footprint_length_m = 1.1;
+  config.footprint_width_m = 0.5;
+  config.footprint_radius_m = 0.5 * std::hypot(1.1, 0.5);
+  config.max_step_m = 0.3;
+  config.min_clearance_m = 1.0;
+  return config;
+}
+
+TEST(GroundTruthCheck, RectangleAlongItsPathPassesWhereItsCircumscribedDiscFails) {
+  // A wall 0.30 m beside the path: outside the 0.25 m half width of the body driving along it,
+  // inside its 0.60 m circumscribed disc and the half width of the same body turned across.
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).wallAlongX(0.3, -5, 5, 0.0, 2.0, SurfaceLabel::kWall);
+  const TruthCheck along = truth.check(alongX(0.0, 0.0), legged());
+  EXPECT_TRUE(along.valid) << along.reason;
+  TruthCheckConfig disc = legged();
+  disc.footprint_length_m = disc.footprint_width_m = 0.0;
+  const TruthCheck as_disc = truth.check(alongX(0.0, 0.0), disc);
+  EXPECT_FALSE(as_disc.valid);
+  EXPECT_THAT(as_disc.reason, HasSubstr("inside the 0.60 m footprint"));
+  TruthCheckConfig across = legged();
+  std::swap(across.footprint_length_m, across.footprint_width_m);
+  const TruthCheck wide = truth.check(alongX(0.0, 0.0), across);
+  EXPECT_FALSE(wide.valid);
+  EXPECT_THAT(wide.reason, HasSubstr("true wall face inside the 0.50 m x 1.10 m footprint turned to the heading"));
+  EXPECT_THAT(wide.reason, HasSubstr("0.30 m left of the path at (-3, 0, 0)"));
+}
+
+TEST(GroundTruthCheck, RectangleDrivingUpToAWallFailsAtItsFrontEnd) {
+  // A wall across the way 0.40 m beyond the path's end: the body's front reaches 0.55 m ahead,
+  // into the wall from the sample at x = 2.9 on.
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).wallAlongY(3.4, -5, 5, 0.0, 2.0, SurfaceLabel::kWall);
+  const TruthCheck check = truth.check(alongX(0.0, 0.0), legged());
+  EXPECT_FALSE(check.valid);
+  EXPECT_THAT(check.reason, HasSubstr("0.50 m ahead of and 0.00 m left of the path at (2.9, 0, 0)"));
+  // Stopping 0.60 m short of it keeps the front 0.05 m clear.
+  const TruthCheck short_of_it = truth.check({{-3.0, 0.0, 0.0}, {2.8, 0.0, 0.0}}, legged());
+  EXPECT_TRUE(short_of_it.valid) << short_of_it.reason;
+}
+
+TEST(GroundTruthCheck, RectangleTurningAtACornerSweepsWhatItsSamplesMiss) {
+  // A 0.1 x 1.0 m bar turns right at the corner of an L-shaped path: between the sample before
+  // the corner (heading +x, the bar along y) and the one at it (heading -45 deg), its ends sweep
+  // the quarter between the two legs. A post there, 0.35 m from the corner, is hit only while it
+  // turns; the same post 0.6 m out is beyond the bar's 0.5 m half width.
+  TruthCheckConfig bar = legged();
+  bar.footprint_length_m = 0.1;
+  bar.footprint_width_m = 1.0;
+  const std::vector<Vector3d> corner = {{-3.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, -3.0, 0.0}};
+  const auto post = [](double r) {
+    const double a = 67.0 * M_PI / 180.0;
+    Truth truth;
+    const double x = r * std::cos(a), y = r * std::sin(a);
+    truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).wallAlongY(x, y - 0.02, y + 0.02, 0.0, 2.0, SurfaceLabel::kObstacle);
+    return truth;
+  };
+  const TruthCheck near = post(0.35).check(corner, bar);
+  EXPECT_FALSE(near.valid);
+  EXPECT_THAT(near.reason, HasSubstr("true obstacle face inside the 0.10 m x 1.00 m footprint"));
+  EXPECT_THAT(near.reason, HasSubstr("turning by 45 deg there"));
+  EXPECT_THAT(near.reason, HasSubstr("the path at (0, 0, 0)"));
+  const TruthCheck far = post(0.6).check(corner, bar);
+  EXPECT_TRUE(far.valid) << far.reason;
+}
+
+TEST(GroundTruthCheck, RectangleOnAPathWithoutHeadingIsItsCircumscribedDisc) {
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).wallAlongX(0.5, -5, 5, 0.0, 2.0, SurfaceLabel::kWall);
+  const TruthCheck still = truth.check({{0.0, 0.0, 0.0}}, legged());
+  EXPECT_FALSE(still.valid);
+  EXPECT_THAT(still.reason, HasSubstr("true wall face 0.50 m from the path at (0, 0, 0), inside the 0.60 m footprint"));
+}
+
 TEST(GroundTruthCheck, EmptyPathIsValid) {
   Truth truth;
   truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);
@@ -215,6 +294,14 @@ TEST(GroundTruthCheck, ValidateReportsEveryProblem) {
     EXPECT_THAT(what, HasSubstr("min_clearance_m: 0.5 (expected >= max_step_m 0.6)"));
     EXPECT_THAT(what, HasSubstr("vertical_tolerance_m: -1"));
     EXPECT_THAT(what, HasSubstr("body_slice_m: 0"));
+  }
+  TruthCheckConfig half = legged();
+  half.footprint_width_m = 0.0;
+  try {
+    half.validate();
+    FAIL() << "validate() accepted a rectangle without a width";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("footprint_length_m, footprint_width_m: 1.1, 0 (expected both > 0"));
   }
   Truth truth;
   truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad);

@@ -21,7 +21,7 @@ ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
 
 # list, cost, lethal, unknown, uncertain, 7 floats, height_uncertainty_m, evidence, rays, reasons (ushort),
 # front_crossings, steiner
-FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 2 + 4 + 1
+FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 2 + 4 + 4 + 1
 VERTEX_BYTES = 3 * 8 + 1 + 4  # x y z, steiner, cost
 
 
@@ -129,7 +129,7 @@ class TempDirCase(unittest.TestCase):
         self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "uncertain", "slope_deg",
                                               "step_m", "roughness_m", "contact", "contact_best", "clearance_m",
                                               "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
-                                              "reasons", "front_crossings", "steiner"])
+                                              "reasons", "heading_fits", "front_crossings", "steiner"])
         self.assertEqual(os.path.getsize(os.path.join(out, "traversability.ply")),
                          header_size + vertex["count"] * VERTEX_BYTES + face["count"] * FACE_BYTES)
         for level in range(levels):
@@ -156,7 +156,7 @@ class TempDirCase(unittest.TestCase):
             self.assertEqual([b["description"] for b in info["bands"]],
                              ["cost", "class", "slope_deg", "step_m", "roughness_m", "contact", "contact_best",
                               "clearance_m", "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
-                              "reasons", "height_m"])
+                              "reasons", "heading_fits", "height_m"])
             self.assertTrue(all(b["type"] == "Float32" and str(b["noDataValue"]).lower() == "nan" for b in info["bands"]))
 
 

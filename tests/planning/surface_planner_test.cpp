@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "planning/face_graph.h"
 #include "planning/surface_planner.h"
@@ -244,6 +245,72 @@ TEST(FaceGraphTest, OneComponentPerFloorAndTheBoxTop) {
   EXPECT_NE(graph.component(ground->face), graph.component(box->face));
   // Snapping does not fall through to the other floor.
   EXPECT_NEAR(graph.snap({6, 7, 2.9}, 0.5)->point_W.z(), 3.0, 1e-12);
+}
+
+TEST(FaceGraphTest, HeadingFitsNeedsBothNeighbouringJudgedHeadings) {
+  traversability::LayeredMesh map = test::wallWithGapMap();
+  for (auto& layers : map.layers) layers.heading_fits = 0b11;  // 0 and 22.5 deg of 8 judged headings
+  WalkabilityConfig config = walkability();
+  config.heading_count = 8;
+  const FaceGraph graph(map, config);
+  const std::uint32_t f = graph.snap({3, 2, 0}, 0.1)->face;
+  const auto along = [](double deg) {
+    return Eigen::Vector3d(std::cos(deg * M_PI / 180), std::sin(deg * M_PI / 180), 0.5);
+  };
+  EXPECT_TRUE(graph.headingFits(f, along(10)));    // between 0 and 22.5: both fit
+  EXPECT_TRUE(graph.headingFits(f, along(190)));   // the same heading driven the other way
+  EXPECT_TRUE(graph.headingFits(f, along(22.5)));  // on a judged heading that fits
+  EXPECT_FALSE(graph.headingFits(f, along(30)));   // between 22.5 (fits) and 45 (does not)
+  EXPECT_FALSE(graph.headingFits(f, along(-10)));  // between 157.5 (does not) and 180
+  EXPECT_TRUE(graph.headingFits(f, Eigen::Vector3d(0, 0, 1)));  // no horizontal travel
+  config.heading_count = 0;                                      // a disc: no heading test
+  EXPECT_TRUE(FaceGraph(map, config).headingFits(f, along(30)));
+  map.layers[f].heading_fits = 0;  // no judged heading fits, free all the same (driven ground)
+  config.heading_count = 8;
+  EXPECT_TRUE(FaceGraph(map, config).headingFits(f, along(30)));
+  config.heading_count = 33;
+  EXPECT_THROW(FaceGraph(map, config), std::invalid_argument);
+}
+
+TEST(FaceGraphTest, ShortestPathCrossesABandOnlyAtHeadingsThatFit) {
+  // A free 20 x 10 m floor; across x in [8, 12] a band where the footprint fits only at headings
+  // within 22.5 deg of the x axis. The straight way from (2, 1) to (18, 9) runs at 26.6 deg.
+  test::LayeredMeshBuilder builder;
+  builder.sheet(0, 20, 0, 10, 0.5, [](double, double) { return 0.0; },
+                [](const Eigen::Vector3d&) { return std::optional<FaceClass>(FaceClass::kFree); });
+  traversability::LayeredMesh map = builder.finish();
+  const auto in_band = [&map](std::uint32_t f) {
+    const auto& t = map.mesh.faces[f];
+    const double x = (map.mesh.vertices[t[0]].x() + map.mesh.vertices[t[1]].x() + map.mesh.vertices[t[2]].x()) / 3;
+    return x > 8 && x < 12;
+  };
+  for (std::uint32_t f = 0; f < map.layers.size(); ++f) map.layers[f].heading_fits = in_band(f) ? 0b10000011 : 0xFF;
+  WalkabilityConfig config = walkability();
+  config.heading_count = 8;
+  const FaceGraph graph(map, config);
+  config.heading_count = 0;
+  const FaceGraph any_heading(map, config);
+  const auto path = [](const FaceGraph& g) {
+    return g.shortestPath(*g.snap({2, 1, 0}, 0.1), *g.snap({18, 9, 0}, 0.1));
+  };
+  const GraphPath kept = path(graph), free = path(any_heading);
+  ASSERT_TRUE(kept.found && free.found);
+  int band_pieces = 0;
+  double steepest_in_band = 0;
+  for (std::size_t i = 0; i < kept.faces.size(); ++i) {
+    if (!in_band(kept.faces[i])) continue;
+    const Eigen::Vector3d d = kept.points_W[i + 1] - kept.points_W[i];
+    steepest_in_band = std::max(steepest_in_band, std::abs(std::atan(d.y() / d.x())) * 180 / M_PI);
+    ++band_pieces;
+  }
+  EXPECT_GT(band_pieces, 0);
+  EXPECT_LE(steepest_in_band, 22.5 + 1e-6);
+  EXPECT_GT(kept.length_m, free.length_m + 0.01);  // it bends to cross the band
+  EXPECT_NEAR(free.length_m, std::hypot(16.0, 8.0), 0.05);
+  // The OMPL planners' motions: a straight walk at 26.6 deg is blocked in the band, at 0 deg not.
+  EXPECT_EQ(graph.walk(*graph.snap({2, 1, 0}, 0.1), *graph.snap({18, 9, 0}, 0.1), true).stop, WalkStop::kBlocked);
+  EXPECT_TRUE(graph.walk(*graph.snap({2, 5.1, 0}, 0.1), *graph.snap({18, 5.1, 0}, 0.1), true).reached());
+  EXPECT_TRUE(any_heading.walk(*any_heading.snap({2, 1, 0}, 0.1), *any_heading.snap({18, 9, 0}, 0.1), true).reached());
 }
 
 TEST(PlannerConfigTest, ValidateListsEveryProblem) {

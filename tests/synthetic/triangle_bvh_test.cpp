@@ -160,6 +160,32 @@ TEST(TriangleBvhTest, ClosestPointMatchesBruteForce) {
   }
 }
 
+TEST(TriangleBvhTest, FacesWithinMatchBruteForce) {
+  const TriangleMesh mesh = randomSoup(800, 4);
+  const TriangleBvh bvh(mesh);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> position(-15, 15);
+  std::uniform_real_distribution<double> radius(0.0, 6.0);
+  std::size_t found = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector3d centre(position(rng), position(rng), position(rng));
+    const double r = radius(rng);
+    std::vector<std::uint32_t> expected;
+    for (std::uint32_t f = 0; f < mesh.faces.size(); ++f) {
+      const auto& face = mesh.faces[f];
+      const TriangleMesh single{{mesh.vertices[face[0]], mesh.vertices[face[1]], mesh.vertices[face[2]]}, {{0, 1, 2}}, {}, {}};
+      if (bruteClosestDistance(single, centre) <= r) expected.push_back(f);
+    }
+    EXPECT_EQ(bvh.facesWithin(centre, r), expected) << "query " << i;
+    found += expected.size();
+  }
+  EXPECT_GT(found, 300u);  // the queries do reach faces
+  EXPECT_TRUE(bvh.facesWithin({0, 0, 0}, -1.0).empty());
+  EXPECT_TRUE(TriangleBvh(TriangleMesh{}).facesWithin({0, 0, 0}, 1.0).empty());
+  EXPECT_THROW(bvh.facesWithin({NAN, 0, 0}, 1.0), std::invalid_argument);
+  EXPECT_THROW(bvh.facesWithin({0, 0, 0}, INFINITY), std::invalid_argument);
+}
+
 TEST(TriangleBvhTest, DoublePrecisionFarFromTheOrigin) {
   // Embree stores floats (0.5 mm steps at 1e4 m); the answers are refined in double on the faces
   // it reports, so they match the double-precision oracle to 1e-9 m even here.

@@ -437,7 +437,7 @@ TEST_F(MapDirectoryTest, GeoTiffHasNamedBandsNanNodataAndTheLayerValues) {
     const std::vector<std::string> bands = {"cost",         "class",        "slope_deg",   "step_m",
                                             "roughness_m",  "contact",      "contact_best", "clearance_m",
                                             "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
-                                            "reasons",      "height_m"};
+                                            "reasons",      "heading_fits", "height_m"};
     const auto bandOf = [&bands](const std::string& band_name) {
       return static_cast<int>(std::find(bands.begin(), bands.end(), band_name) - bands.begin()) + 1;
     };

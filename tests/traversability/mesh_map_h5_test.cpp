@@ -245,10 +245,11 @@ std::vector<float> vertexLayer(const LayeredMesh& map, const RobotProfile& profi
 TEST_F(MeshMapH5Test, AVertexWithoutFacesIsUnknownAndNeverNan) {
   map_.mesh.vertices.emplace_back(9, 9, 9);
   const std::vector<internal::VertexLayer> layers = internal::meshMapVertexLayers(map_, profile_);
-  ASSERT_EQ(layers.size(), 15u);
+  ASSERT_EQ(layers.size(), 16u);
   for (const internal::VertexLayer& l : layers) {
     ASSERT_EQ(l.values.size(), 9u) << l.name;
-    if (l.name == "contact" || l.name == "evidence" || l.name == "height_uncertainty_m" || l.name == "reasons") {
+    if (l.name == "contact" || l.name == "evidence" || l.name == "height_uncertainty_m" || l.name == "reasons" ||
+        l.name == "heading_fits") {
       EXPECT_TRUE(std::isnan(l.values[8])) << l.name;  // terramesh's own layers: NaN = no data
     } else {
       EXPECT_FALSE(std::isnan(l.values[8])) << l.name;

@@ -26,7 +26,8 @@ ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
 # What mesh_map's layer plugins read (their configured names), then terramesh's own layers.
 MESH_MAP_LAYERS = ["height_diff", "roughness", "steepness", "border", "clearance", "inflation", "cost",
                    "cost_allow_uncertain"]
-OWN_LAYERS = ["lethal", "uncertain", "unknown", "contact", "evidence", "height_uncertainty_m", "reasons"]
+OWN_LAYERS = ["lethal", "uncertain", "unknown", "contact", "evidence", "height_uncertainty_m", "reasons",
+              "heading_fits"]
 # lvr2's MeshBuffer channel types that HDF5 can hold (MultiChannelMap without bool and waveforms).
 MESH_BUFFER_TYPES = {np.dtype(t) for t in ("i1", "u1", "i2", "u2", "i4", "u4", "i8", "u8", "f4", "f8")}
 RANK_FREE, RANK_UNCERTAIN, RANK_LETHAL = 1, 2, 3
@@ -152,6 +153,12 @@ class MeshMapCase(unittest.TestCase):
             has_face[faces[:, k]] = True
         np.testing.assert_array_equal(layers["reasons"], np.where(has_face, bits.astype(np.float32), np.nan))
         self.assertTrue((bits != 0).any(), "some vertex has a face that is not free")
+        # The headings of travel every face of the vertex fits at.
+        fits = np.full(n, np.uint32(0xFFFFFFFF), dtype=np.uint32)
+        for k in range(3):
+            np.bitwise_and.at(fits, faces[:, k], face["heading_fits"].astype(np.uint32))
+        np.testing.assert_array_equal(layers["heading_fits"], np.where(has_face, fits.astype(np.float32), np.nan))
+        self.assertTrue((face["heading_fits"] != 0).any(), "some face fits at a heading")
         # Unknown clearance (NaN) is no clearance for mesh_map's ClearanceLayer.
         clearance = worst(faces, np.nan_to_num(face["clearance_m"], nan=0.0, posinf=np.inf), n, lowest=True)
         np.testing.assert_array_equal(layers["clearance"], np.nan_to_num(clearance, nan=0.0, posinf=np.inf))

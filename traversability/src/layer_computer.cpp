@@ -162,6 +162,11 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
   fixed_headings_ = heading_samples_.size();
 }
 
+double LayerComputer::footprintReachM(double margin_m) const {
+  if (profile_.footprint == FootprintShape::kDisc) return radius_m_ + margin_m;
+  return std::hypot(0.5 * profile_.footprint_length_m + margin_m, 0.5 * profile_.footprint_width_m + margin_m);
+}
+
 void LayerComputer::addHeading(double theta) const {
   const double eps = 1e-9 * radius_m_;
   const double c = std::cos(theta), s = std::sin(theta);
@@ -364,7 +369,7 @@ LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
   double spread = 0;
   for (int i = 0; i < n_points; ++i) spread = std::max(spread, points[static_cast<std::size_t>(i)].norm());
   // Measured obstacles may extend up to max_obstacle_extension_m beyond their faces.
-  r.window.obstacle_reach_m = radius_m_ + spread + profile_.evidence.max_obstacle_extension_m;
+  r.window.obstacle_reach_m = footprintReachM(profile_.evidence.max_obstacle_extension_m) + spread;
   const double reach = r.window.obstacle_reach_m;
   const double ref_spread = std::hypot(r.ref_a, r.ref_b) * reach + 1e-6 * (1.0 + reach);
   r.window.z_lo = c.z() - ref_spread - band_down_m_;
@@ -518,6 +523,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   double worst_contact = 1.0, best_contact = 0.0;
   bool first = true;
   bool fits_worst = false;
+  std::uint32_t heading_fits = 0;
   std::uint16_t worst_case_reasons = 0;
   fitting_possible_.clear();
   for (std::size_t k = 0; k < heading_samples_.size(); ++k) {
@@ -532,6 +538,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
     }
     h.fits_worst = h.fits_worst && top <= 0 && possible_[k] == 0;
     fits_worst = fits_worst || h.fits_worst;
+    if (h.fits_worst && k < fixed_headings_) heading_fits |= 1u << k;
     if (top > 0) {
       h.fits = false;
       h.step_m = std::max(h.step_m, top);
@@ -558,6 +565,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   layers.roughness_m = static_cast<float>(best.roughness_m);
   layers.contact = static_cast<float>(worst_contact);
   layers.contact_best = static_cast<float>(best_contact);
+  layers.heading_fits = heading_fits;
 
   computeClearance(store, s, driven);
   layers.rays = f.rays;

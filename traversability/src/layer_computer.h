@@ -56,10 +56,14 @@ class LayerComputer {
   /// Horizontal reach of a face's local layers: a change farther than this (in the horizontal
   /// plane, from the face's centroid) cannot change them.
   double reachM() const { return radius_m_; }
+  /// Horizontal reach of the footprint grown by `margin_m` as the obstacle test grows it (meets):
+  /// a disc's radius plus the margin; a rectangle's half length and half width each plus the
+  /// margin, to its corner (farther than the circumradius plus the margin).
+  double footprintReachM(double margin_m) const;
   /// Horizontal reach of obstacles for the largest faces (judged at points up to reachM() from
   /// their centroid, see computeLocal), and of the possible extension of measured obstacles
   /// (EvidenceModel::max_obstacle_extension_m): no face's layers reach farther.
-  double maxReachM() const { return 2.0 * radius_m_ + profile_.evidence.max_obstacle_extension_m; }
+  double maxReachM() const { return radius_m_ + footprintReachM(profile_.evidence.max_obstacle_extension_m); }
 
   /// Fills slope, step, roughness, contact, clearance, rays and steiner of face `s`. Reads the
   /// evidence of the faces around it (setEvidence first) and the unconfirmed points around it
@@ -73,7 +77,7 @@ class LayerComputer {
   void setUnconfirmedPoints(const UnconfirmedPoints* points) { unconfirmed_ = points; }
   /// Horizontal reach of an unconfirmed point: a face whose projection is farther from it cannot
   /// meet it (a robot may stand anywhere on a face).
-  double unconfirmedReachM() const { return radius_m_ + profile_.evidence.unconfirmed_point_extension_m; }
+  double unconfirmedReachM() const { return footprintReachM(profile_.evidence.unconfirmed_point_extension_m); }
 
   /// Sets the evidence and height uncertainty of face `s` (its layers and its sampling geometry)
   /// from the face: its vertices, its horizontal span and whether rays crossed the free space in

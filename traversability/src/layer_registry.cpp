@@ -62,6 +62,11 @@ std::vector<LayerInfo> makeRegistry() {
                     [](const FaceLayers& f) -> double { return f.reasons; },
                     [](FaceLayers& f, double v) { f.reasons = static_cast<std::uint16_t>(v); }, true,
                     Worst::kBitwiseOr, kNoRange, kNoRangeMax, false, true});
+  layers.push_back({"heading_fits", "bits", LayerType::kUInt32,
+                    "headings of travel that fit in the worst case (bit k: k x 180 / contact_headings deg)",
+                    [](const FaceLayers& f) -> double { return f.heading_fits; },
+                    [](FaceLayers& f, double v) { f.heading_fits = static_cast<std::uint32_t>(v); }, true,
+                    Worst::kBitwiseAnd, kNoRange, kNoRangeMax, false, true});
   return layers;
 }
 

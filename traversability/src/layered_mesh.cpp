@@ -14,6 +14,8 @@ std::vector<float> LayeredMesh::vertexWorst(const std::function<float(const Face
         result[v] = x;
       } else if (worst == Worst::kBitwiseOr) {
         result[v] = static_cast<float>(static_cast<std::uint32_t>(result[v]) | static_cast<std::uint32_t>(x));
+      } else if (worst == Worst::kBitwiseAnd) {
+        result[v] = static_cast<float>(static_cast<std::uint32_t>(result[v]) & static_cast<std::uint32_t>(x));
       } else if (worst == Worst::kHighest ? x > result[v] : x < result[v]) {
         result[v] = x;
       }

@@ -42,7 +42,8 @@ struct NumericKey {
 /// Every numeric key of the schema, in the order writeRobotProfile writes them.
 const std::vector<NumericKey>& numericKeys();
 
-inline const Range kHeadingsRange{1, 360, false, false};
+// One bit each in FaceLayers::heading_fits, which the float exports (GeoTIFF, HDF5) hold exactly.
+inline const Range kHeadingsRange{1, 24, false, false};
 inline const Range kMinRaysRange{0, 1e6, false, false};
 inline const Range kSensorHeightRange{0, 20, true, false};
 

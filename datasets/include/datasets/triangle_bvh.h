@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "mesher/triangle_mesh.h"
 
@@ -76,6 +77,11 @@ class TriangleBvh {
   /// The surface point nearest to `query`. Ties go to the lowest face index.
   /// @throw std::logic_error if the tree is empty; std::invalid_argument if `query` is not finite.
   SurfacePoint closestPoint(const Eigen::Vector3d& query) const;
+
+  /// Every face with a point within `radius` of `centre` (exact double-precision distances), in
+  /// increasing face index. Empty for an empty tree or a negative radius.
+  /// @throw std::invalid_argument if `centre` or `radius` is not finite.
+  std::vector<std::uint32_t> facesWithin(const Eigen::Vector3d& centre, double radius) const;
 
   /// Number of faces in the tree.
   std::size_t faceCount() const;

@@ -17,9 +17,13 @@ namespace terramesh::evaluation {
 
 /// The robot and the tolerances a path is judged with. Lengths in metres, angles in degrees.
 struct TruthCheckConfig {
-  /// The body's footprint as a disc: a disc robot's radius, or a rectangle's circumscribed radius
-  /// (conservative: path samples carry no heading). RobotProfile::footprintCircumradiusM().
+  /// The body's footprint: a disc of `footprint_radius_m`, or, when `footprint_length_m` and
+  /// `footprint_width_m` are both > 0, that rectangle (length along the heading), turned to the
+  /// heading of travel (TruthChecker::check). A rectangle's `footprint_radius_m` is its
+  /// circumscribed radius, the disc a path without any heading (all on one vertical) is tested as.
   double footprint_radius_m = 0.3;
+  double footprint_length_m = 0.0;
+  double footprint_width_m = 0.0;
   /// Anything lower than this above the local true ground is a step the robot crosses.
   double max_step_m = 0.2;
   /// Robot height: the body spans max_step_m to min_clearance_m above the local true ground.
@@ -41,10 +45,12 @@ struct TruthCheckConfig {
 
   /// @throw std::invalid_argument listing every problem, each as "field: value (expected ...)".
   void validate() const;
+  /// Whether the footprint is a rectangle.
+  bool rectangle() const { return footprint_length_m > 0.0 && footprint_width_m > 0.0; }
 };
 
-/// The check of a robot profile's robot: its footprint's circumscribed radius, step, height and
-/// slope; the tolerances at their defaults.
+/// The check of a robot profile's robot: its footprint (disc, or rectangle with its circumscribed
+/// radius), step, height and slope; the tolerances at their defaults.
 TruthCheckConfig truthCheckConfigFrom(const traversability::RobotProfile& profile);
 
 /// Whether a path is drivable on the true scene.
@@ -74,9 +80,18 @@ class TruthChecker {
   /// 2. label: that face is drivable (road, sidewalk, curb, vegetation or ramp; not wall, obstacle
   ///    or ceiling);
   /// 3. slope: its true slope is <= `max_slope_deg`;
-  /// 4. body: no non-drivable true face (wall, obstacle, ceiling) enters the vertical cylinder of
-  ///    radius `footprint_radius_m` around p between `max_step_m` and `min_clearance_m` above that
-  ///    true ground point g. Tested in slices `body_slice_m` apart: for each slice centre c on the
+  /// 4. body: no non-drivable true face (wall, obstacle, ceiling) enters the robot's body between
+  ///    `max_step_m` and `min_clearance_m` above that true ground point g.
+  ///    A rectangle's body is the upright box over the footprint centred on g, turned to the
+  ///    heading of travel at p: the horizontal direction of the chord between the path points half
+  ///    the footprint's length behind and ahead of p along the path (clamped to its ends), the
+  ///    heading of a body whose two ends follow the path. Where that heading turns between
+  ///    samples, the body is also tested at p at intermediate headings, close enough that its
+  ///    corners move at most `spacing_m` from one to the next. Each face within the box's
+  ///    circumscribed ball (TriangleBvh::facesWithin) is clipped to the box, exactly; a face that
+  ///    only touches the box's boundary does not enter it.
+  ///    A disc's body is the vertical cylinder of radius `footprint_radius_m` around p. Tested in
+  ///    slices `body_slice_m` apart: for each slice centre c on the
   ///    axis, the non-drivable surface point q nearest to c (TriangleBvh::closestPoint on those
   ///    faces only) fails the path if it lies in the cylinder. Any non-drivable point in a slice
   ///    is within hypot(r, slice / 2) of c, so a face in the body is missed only when another
@@ -92,6 +107,14 @@ class TruthChecker {
                    const TruthCheckConfig& config) const;
 
  private:
+  /// The failure of rule 4 for a disc body on true ground `g` under sample `p`, or "".
+  std::string discFailure(const Eigen::Vector3d& p, const Eigen::Vector3d& g, const Eigen::Vector3d& up,
+                          double metres_per_unit, const TruthCheckConfig& config) const;
+  /// The failure of rule 4 for a rectangle's body turning from heading `from` to `to` at `p`, or "".
+  std::string boxFailure(const Eigen::Vector3d& p, const Eigen::Vector3d& g, const Eigen::Vector3d& up,
+                         const Eigen::Vector3d& from, const Eigen::Vector3d& to, double metres_per_unit,
+                         const TruthCheckConfig& config) const;
+
   const datasets::LabeledMesh& truth_;
   const datasets::TriangleBvh& bvh_;
   /// Index in the truth of each face of `obstacle_bvh_`.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "traversability/layered_mesh.h"
+#include "traversability/robot_profile.h"
 
 namespace terramesh::planning {
 
@@ -34,9 +35,16 @@ struct WalkabilityConfig {
   /// too, at their own cost (the profile's evidence.uncertain_cost), under the same rules as free
   /// faces. Off by default: a path there may meet a step or an obstacle the map could not exclude.
   bool allow_uncertain = false;
+  /// A rectangular robot's contact_headings (RobotProfile): the direction of travel over a face
+  /// must fit its `heading_fits` layer (FaceGraph::headingFits). 0: no heading test (a disc).
+  int heading_count = 0;
   /// @throw std::invalid_argument listing every out-of-range field.
   void validate() const;
 };
+
+/// The walkability of a robot profile's robot: free faces at least its inscribed radius from a
+/// lethal face, and a rectangle's headings of travel kept to those its footprint fits at.
+WalkabilityConfig walkabilityFor(const traversability::RobotProfile& profile);
 
 /// A point on the surface: a face and a position on it (map frame, map units).
 struct SurfaceLocation {
@@ -124,6 +132,14 @@ class FaceGraph {
   const WalkabilityConfig& config() const { return config_; }
   const traversability::FaceLayers& layers(std::uint32_t f) const { return layers_[f]; }
 
+  /// Whether the robot may cross walkable face f travelling along `direction_W` (its horizontal
+  /// part), the heading kept to those the footprint fits at in the worst case: with
+  /// WalkabilityConfig::heading_count N > 0 and a face whose `heading_fits` has a bit set, the
+  /// heading's two neighbours among the N judged ones (k x 180 / N deg from the first axis of
+  /// geometry::planFrame(up)) must both fit, or the one it lies on. True otherwise (a disc; a face
+  /// no judged heading fits but that is free all the same: driven ground, along its drive).
+  bool headingFits(std::uint32_t f, const Eigen::Vector3d& direction_W) const;
+
   /// The nearest point on a walkable face within `radius_m` (metres) of `query_W`, or nothing.
   /// O(F). Ties go to the lowest face index.
   std::optional<SurfaceLocation> snap(const Eigen::Vector3d& query_W, double radius_m) const;
@@ -177,6 +193,9 @@ class FaceGraph {
   std::vector<double> component_areas_;
   std::vector<std::uint32_t> walkable_faces_;
   Eigen::Vector3d up_W_ = Eigen::Vector3d::UnitZ();
+  /// The plan frame's first two axes, which the judged headings are measured from.
+  Eigen::Vector3d heading_e1_ = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d heading_e2_ = Eigen::Vector3d::UnitY();
   double metres_per_unit_ = 1.0;
 };
 

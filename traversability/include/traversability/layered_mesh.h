@@ -63,6 +63,12 @@ struct FaceLayers {
   /// Why the face is not free: the bits of `reason::` in traversability/layer_registry.h of its
   /// class's rules that hold (0 for a free face).
   std::uint16_t reasons = 0;
+  /// The headings of travel at which the footprint fits in the worst case, as a free face needs:
+  /// bit k for heading k x 180 / contact_headings degrees about up from the first axis of the
+  /// map's plan frame (geometry::planFrame(up_W), default rule); a disc has bit 0 only. 0 where no
+  /// judged heading fits (a driven face may still be free: it fits along its drive). Planners
+  /// keep a rectangle's heading of travel to these (docs/planning.md, "Headings").
+  std::uint32_t heading_fits = 0;
 };
 
 /// A snapshot of a traversability map: the mesh (map units) with every layer per face. What the
@@ -78,9 +84,9 @@ struct LayeredMesh {
   /// Metres per map unit.
   double metres_per_unit = 1.0;
 
-  /// Which end of a per-face quantity is worse for the robot; for a set of bits (FaceLayers::
-  /// reasons) every bit any face has.
-  enum class Worst : std::uint8_t { kHighest, kLowest, kBitwiseOr };
+  /// Which end of a per-face quantity is worse for the robot; for a set of bits, every bit any
+  /// face has (FaceLayers::reasons) or only the bits every face has (FaceLayers::heading_fits).
+  enum class Worst : std::uint8_t { kHighest, kLowest, kBitwiseOr, kBitwiseAnd };
   /// The per-vertex rule of every export: a vertex takes the worst value of its faces (`worst`
   /// says which end is worse); NaN face values are no data and skipped; NaN where no face of the
   /// vertex has a value (or the vertex has no face). O(faces).
