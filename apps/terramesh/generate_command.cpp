@@ -19,6 +19,7 @@
 #include "datasets/stream_format.h"
 #include "datasets/synthetic_scene.h"
 #include "datasets/triangle_bvh.h"
+#include "generate_lidar.h"
 
 namespace terramesh::cli {
 namespace {
@@ -41,6 +42,7 @@ struct GenerateOptions {
   std::map<std::string, double> reals;  ///< the simulation's real-valued options that were given
   bool measure_density = false;
   bool quiet = false;
+  LidarOptions lidar;
 
   double lengthM() const { return std::stod(*length_m); }
 };
@@ -103,6 +105,7 @@ void declareOptions(CLI::App& app, GenerateOptions& options) {
                "also measure the stream's points per m^2 of the ground its keyframes see and its point errors "
                "(generation.txt: ground_*; slow on long scenes)");
   app.add_flag("--quiet", options.quiet, "print nothing but errors");
+  addLidarOptions(app, options.lidar);
 }
 
 /// Parses "A:B" or "A:" into a half-open frame range.
@@ -268,7 +271,8 @@ int runGenerate(const std::vector<std::string>& args) {
   app.footer(
       "writes DIR/stream.tmstream, DIR/stream.json, DIR/ground_truth.ply (labels and slopes per face), "
       "DIR/trajectory.txt (true keyframe poses, KITTI format, line i = keyframe i), DIR/generation.txt and, "
-      "for hazards, DIR/hazards.csv (each hazard with a start and goal across it; see docs/synthetic_data.md)");
+      "for hazards, DIR/hazards.csv (each hazard with a start and goal across it); with --lidar, DIR/lidar/ "
+      "(a KITTI odometry sequence; see docs/synthetic_data.md)");
   GenerateOptions options;
   declareOptions(app, options);
   if (!parseCommandLine(app, args)) return kExitOk;
@@ -276,10 +280,13 @@ int runGenerate(const std::vector<std::string>& args) {
   const auto started = std::chrono::steady_clock::now();
   // Everything is parsed and validated before any output exists.
   const SlamSimulationConfig config = simulationConfig(options);
+  const auto lidar = lidarConfigFrom(options.lidar, config.seed);
   std::string source;
   const datasets::SyntheticScene scene = buildScene(options, source);
   const datasets::TriangleBvh bvh(scene.ground_truth.mesh);
   const datasets::SimulatedSlam slam = datasets::simulateSlam(scene, bvh, config);
+  std::vector<Eigen::Isometry3d> lidar_poses;
+  if (lidar) lidar_poses = lidarPosesFor(options.lidar, scene, bvh, *lidar);
 
   const std::filesystem::path output = options.output;
   std::filesystem::create_directories(output);
@@ -293,6 +300,11 @@ int runGenerate(const std::vector<std::string>& args) {
   if (options.measure_density) {
     description += describeDensity(datasets::measureGroundDensity(scene, bvh, slam, config));
   }
+  std::optional<LidarRunSummary> lidar_run;
+  if (lidar) {
+    lidar_run = writeLidarSequence(output / "lidar", scene, bvh, *lidar, lidar_poses, options.quiet);
+    description += describeLidar(*lidar, *lidar_run);
+  }
   writeFileAtomically(output / "generation.txt", description);
   if (!scene.hazards.empty()) writeFileAtomically(output / "hazards.csv", describeHazards(scene.hazards));
   if (!options.quiet) {
@@ -303,6 +315,10 @@ int runGenerate(const std::vector<std::string>& args) {
                 scene.name.c_str(), scene.ground_truth.mesh.faces.size(), slam.stats.keyframes,
                 slam.stats.points, static_cast<double>(slam.stats.points) / keyframes,
                 static_cast<double>(slam.stats.observations) / keyframes, output.string().c_str(), seconds);
+    if (lidar_run) {
+      std::printf("lidar: %zu scans, %zu returns per scan (median), %.3f s per scan\n", lidar_run->scans,
+                  lidar_run->median_returns_per_scan, lidar_run->seconds / static_cast<double>(lidar_run->scans));
+    }
   }
   return kExitOk;
 }

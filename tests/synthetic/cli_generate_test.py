@@ -96,6 +96,52 @@ class GenerateTest(TempDirCase):
                 self.assertEqual(a.read(), b.read(), name)
 
 
+class LidarTest(TempDirCase):
+    """`generate --lidar`: a KITTI odometry sequence beside the camera stream, which it leaves
+    unchanged, and which `terramesh mesh` reads as it is."""
+
+    def test_lidar_sequence_beside_an_unchanged_camera_stream_meshes(self):
+        plain, lidar = self.out("plain"), self.out("lidar")
+        for out, extra in [(plain, []), (lidar, ["--lidar", "--lidar-scans", "3"])]:
+            result = run("generate", "street", "--length-m", "60", "--seed", "2", "-o", out, "--quiet", *extra)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertEqual(result.stdout, "")
+        self.assertEqual(sorted(os.listdir(lidar)), sorted(OUTPUTS + ["lidar"]))
+        for name in OUTPUTS[:-1]:
+            with open(os.path.join(plain, name), "rb") as a, open(os.path.join(lidar, name), "rb") as b:
+                self.assertEqual(a.read(), b.read(), name + " is the same with --lidar")
+        generation = read_generation(lidar)
+        self.assertEqual(generation["lidar_scans"], "3")
+        self.assertEqual(generation["lidar_beams"], "64")
+        self.assertNotIn("lidar_scans", read_generation(plain))
+
+        sequence = os.path.join(lidar, "lidar")
+        self.assertEqual(sorted(os.listdir(sequence)), ["calib.txt", "poses.txt", "times.txt", "velodyne"])
+        scans = sorted(os.listdir(os.path.join(sequence, "velodyne")))
+        self.assertEqual(scans, ["000000.bin", "000001.bin", "000002.bin"])
+        sizes = [os.path.getsize(os.path.join(sequence, "velodyne", scan)) for scan in scans]
+        self.assertTrue(all(size % 16 == 0 for size in sizes))
+        self.assertEqual(sum(sizes) // 16, int(generation["lidar_returns"]))
+        with open(os.path.join(sequence, "poses.txt")) as f:
+            poses = [line.split() for line in f]
+        self.assertEqual([len(pose) for pose in poses], [12, 12, 12])
+        # Scans 8 m/s / 10 Hz apart along a nearly straight road: cam0 moves 0.8 m a scan.
+        step = sum((float(poses[1][k]) - float(poses[0][k])) ** 2 for k in (3, 7, 11)) ** 0.5
+        self.assertAlmostEqual(step, 0.8, delta=0.01)
+        with open(os.path.join(sequence, "times.txt")) as f:
+            self.assertEqual([float(t) for t in f.read().split()], [0.0, 0.1, 0.2])
+        with open(os.path.join(sequence, "calib.txt")) as f:
+            self.assertEqual(len(f.readline().split()), 13, "Tr: and 12 numbers")
+
+        mesh_out = self.out("mesh")
+        result = run("mesh", sequence, "--max-returns-per-scan", "5000", "-o", mesh_out, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        checked = subprocess.run(["python3", CHECKER, os.path.join(mesh_out, "mesh.ply"), "--json"],
+                                 capture_output=True, text=True, timeout=300)
+        self.assertEqual(checked.returncode, 0, checked.stdout + checked.stderr)
+        self.assertGreater(json.loads(checked.stdout)["faces"], 1000)
+
+
 class BadInputTest(TempDirCase):
     def assert_bad(self, *args, mention=None):
         out = self.out()
@@ -117,6 +163,14 @@ class BadInputTest(TempDirCase):
         self.assert_bad("street", "--kitti-poses", KITTI_POSES, "--frames", "5000:6000", mention="empty")
         self.assert_bad("garage", "--length-m", "10", mention="length_m")
         self.assert_bad("street", "--unknown-option", "1")
+
+    def test_bad_lidar_options(self):
+        self.assert_bad("street", "--lidar", "--lidar-scans", "0", mention="--lidar-scans")
+        self.assert_bad("street", "--lidar", "--lidar-scans", "2.5", mention="whole number")
+        self.assert_bad("street", "--lidar", "--lidar-speed-m-per-s", "-1", mention="--lidar-speed-m-per-s")
+        self.assert_bad("street", "--lidar", "--lidar-speed-m-per-s", "1e-9", mention="--lidar-scans N")
+        self.assert_bad("street", "--lidar", "--lidar-range-noise-m", "x", mention="--lidar-range-noise-m")
+        self.assert_bad("street", "--lidar-scans", "3", mention="needs --lidar")
 
     def test_bad_pose_files_name_file_and_line(self):
         self.assert_bad("street", "--kitti-poses", self.out("missing.txt"), mention="missing.txt")
