@@ -9,6 +9,7 @@
 #include "cli_args.h"
 #include "commands.h"
 #include "common/input_error.h"
+#include "datasets/stream_format.h"
 #include "datasets/stream_reader.h"
 #include "mesher/mesh_io.h"
 #include "traversability/map_directory.h"
@@ -106,6 +107,10 @@ std::string convertOne(const ConvertOptions& o) {
       writeMeshOurs(out, mesh);
       summary << "read by PCL: " << describe(mesh);
     }
+  } else if (out_ext == ".tmstream") {
+    const datasets::SlamStream stream = datasets::readAnyStream(in);
+    datasets::writeStreamFile(out, stream);
+    summary << "stream: " << stream.events.size() << " events";
   } else if (out_ext == ".pcd" || out_ext == ".bt") {
     const datasets::SlamStream stream = datasets::readAnyStream(in);
     const double metres_per_unit = o.metres_per_unit.value_or(stream.scale_known ? stream.metres_per_unit : 1.0);
@@ -135,6 +140,7 @@ int runConvert(const std::vector<std::string>& args) {
                "  PCL mesh (.ply/.obj)   -> .ply/.obj       read by PCL's readers, written by terramesh (--to terramesh)\n"
                "  STREAM                 -> .pcd            SLAM points, each with its observing camera as viewpoint\n"
                "  STREAM                 -> .bt             OctoMap from the camera-to-point rays\n"
+               "  STREAM                 -> .tmstream       the same stream in terramesh's own format (any input mesh reads)\n"
                "  .bt                    -> .ply/.obj       the faces of the occupied voxels as a mesh\n"
                "  MAP_DIR or its traversability.ply -> .pcd  face centroids with every layer as a field",
                "terramesh convert");

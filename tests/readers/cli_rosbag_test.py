@@ -5,6 +5,9 @@ master), meshed and compared with the same data read by terramesh's other reader
   `id` field) with an Odometry at each stamp gives a byte-identical mesh.ply to the .tmstream.
 - KittiBagTest: KITTI Velodyne scans in the sensor frame with Odometry from the KITTI poses, against the
   KITTI reader on the same scans (see the test for why the meshes are close, not identical).
+- SyntheticLidarBagTest: the generator's LiDAR model (`generate --lidar`, a KITTI sequence folder),
+  converted to a .tmstream and written as registered clouds with an Odometry per scan: the folder,
+  the stream and the bag give one byte-identical mesh.ply.
 - BadBagTest: missing topic, wrong type, several candidates, a cloud without z, no pose near a cloud.
 
 Run by ctest with the system Python (python3-rosbag): /usr/bin/python3 -m unittest cli_rosbag_test
@@ -320,6 +323,62 @@ class KittiBagTest(BagCase):
         self.assertGreater(kitti_faces, 20000)
         self.assertLess(abs(bag_vertices - kitti_vertices), 0.01 * kitti_vertices)
         self.assertLess(abs(bag_faces - kitti_faces), 0.01 * kitti_faces)
+
+
+class SyntheticLidarBagTest(BagCase):
+    """LiDAR scans of the generator's sensor model (64 beams, about 120k returns a scan), thinned to
+    every STEP-th return so that the test is quick: the KITTI sequence folder `generate --lidar`
+    writes, that folder converted to a .tmstream (`terramesh convert`), and a bag of the stream's
+    keyframes as registered float64 clouds (no `id` field: the bag reader numbers the returns as the
+    KITTI reader does, keyframe << 32 | index) posed by Odometry messages of the Velodyne frame."""
+
+    SCANS = 3
+    STEP = 20
+
+    def thinned_sequence(self):
+        generated = run("generate", "street", "-o", self.path("gen"), "--length-m", "40", "--lidar",
+                        "--lidar-scans", str(self.SCANS), "--quiet")
+        self.assertEqual(generated.returncode, 0, generated.stderr)
+        source, sequence = self.path("gen/lidar"), self.path("thin")
+        os.makedirs(os.path.join(sequence, "velodyne"))
+        for name in ("calib.txt", "poses.txt", "times.txt"):
+            shutil.copyfile(os.path.join(source, name), os.path.join(sequence, name))
+        scans = sorted(os.listdir(os.path.join(source, "velodyne")))
+        self.assertEqual(scans, [f"{i:06d}.bin" for i in range(self.SCANS)])
+        for name in scans:
+            scan = np.fromfile(os.path.join(source, "velodyne", name), dtype="<f4").reshape(-1, 4)
+            self.assertGreater(len(scan), 50000)  # the model's full scan
+            scan[::self.STEP].tofile(os.path.join(sequence, "velodyne", name))
+        return sequence
+
+    def test_folder_stream_and_bag_give_one_mesh(self):
+        sequence = self.thinned_sequence()
+        folder_out, _ = self.mesh(sequence, "from_folder", "--quiet")
+        stream = self.path("lidar.tmstream")
+        converted = run("convert", sequence, stream)
+        self.assertEqual(converted.returncode, 0, converted.stderr)
+        self.assertIn(f"stream: {self.SCANS} events", converted.stdout)
+        stream_out, _ = self.mesh(stream, "from_stream", "--quiet")
+        self.assertEqual(self.file_bytes(stream_out, "mesh.ply"), self.file_bytes(folder_out, "mesh.ply"))
+
+        keyframes = read_tmstream_keyframes(stream)
+        self.assertEqual([k[0] for k in keyframes], list(range(self.SCANS)))
+        bag_path = self.path("lidar.bag")
+        with rosbag.Bag(bag_path, "w") as bag:
+            for index, (_, centre, q_wxyz, observations) in enumerate(keyframes):
+                time = stamp(100.0 + 0.1 * index)
+                # The stream numbers the returns keyframe << 32 | index, as the bag reader will.
+                self.assertEqual([o[0] for o in observations], [(index << 32) | i for i in range(len(observations))])
+                bag.write("/odom", odometry(time, "map", "velodyne", centre, q_wxyz[1:] + q_wxyz[:1]), t=time)
+                columns = [(axis, FLOAT64, [o[k + 1] for o in observations]) for k, axis in enumerate("xyz")]
+                bag.write("/velodyne_registered", cloud_message(columns, time, "map"), t=time)
+        bag_out, stderr = self.mesh(bag_path, "from_bag")
+        self.assertEqual(self.file_bytes(bag_out, "mesh.ply"), self.file_bytes(stream_out, "mesh.ply"))
+        self.assertIn("no field \"id\": every return is its own point (seen once), min_views 1 advised", stderr)
+        self.assertIn("sensor up axis +z (sensor frame \"velodyne\")", stderr)
+        vertices, faces, closed = mesh_counts(bag_out)
+        self.assertTrue(closed)
+        self.assertGreater(faces, 5000)
 
 
 def small_cloud(time, frame="velodyne", names=("x", "y", "z"), kind=FLOAT32, offset=0.0):
