@@ -13,7 +13,7 @@ namespace terramesh::traversability {
 ///   name: string
 ///   footprint: {radius_m: R} (disc) | {length_m: L, width_m: W} (rectangle, L along the heading)
 ///   max_slope_deg (0, 90), max_step_m [0, 10], max_roughness_m (0, 10], min_clearance_m (0, 50],
-///   contact_tolerance_m (0, 10], min_support [0, 1], contact_headings: integer [1, 360],
+///   contact_tolerance_m (0, 10], min_support [0, 1], contact_headings: integer [1, 24],
 ///   inscribed_radius_m [0, 100], inflation_radius_m [inscribed_radius_m, 100],
 ///   cost_scaling_factor (0, 1000], weights: {slope, step, roughness, contact, inflation} each
 ///   [0, 1000] not all 0, min_rays: integer [0, 1e6],
