@@ -173,15 +173,32 @@ TEST(UnconfirmedPointsTest, APointInsideTheBodyMakesTheFloorAroundItUncertainNev
     EXPECT_FLOAT_EQ(layers.cost, fresh_layers.at(key).cost);
   }
 
-  // Below the step limit (a pebble the robot climbs) or above the robot: nothing changes. Moved
+  // Within the points' noise of the floor (3 sigma) or above the robot: nothing changes. Moved
   // there, the point leaves the floor as it was.
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, 0.9)}) {
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0.08), Eigen::Vector3d(0, 0, 0.9)}) {
     map.setUnconfirmedPoints(onePoint(p));
     for (const auto& [key, layers] : layersByKey(map)) {
       ASSERT_EQ(layers.face_class, bare.at(key).face_class) << p.transpose();
       ASSERT_FLOAT_EQ(layers.cost, bare.at(key).cost) << p.transpose();
     }
   }
+  // Under the 0.18 m step but proud of the floor (over evidence.proud_point_rise_m, 0.1 m): a point
+  // somewhere on a rock whose top nobody measured. The floor around it is uncertain as for 0.4 m.
+  ASSERT_LT(profile.evidence.proud_point_rise_m, 0.15);
+  ASSERT_GT(profile.max_step_m, 0.15);
+  map.setUnconfirmedPoints(onePoint({0, 0, 0.15}));
+  for (const auto& [distance, face_class] : classesByDistance(map)) {
+    if (distance < reach - 0.01) EXPECT_EQ(face_class, FaceClass::kUncertain) << distance;
+    if (distance > reach + 0.01 && distance < 3) EXPECT_EQ(face_class, FaceClass::kFree) << distance;
+  }
+  // With the rise set above it, the point is a pebble the robot climbs.
+  RobotProfile climbs = profile;
+  climbs.evidence.proud_point_rise_m = 0.16;
+  TraversabilityMap pebble(climbs, MapFrame{});
+  pebble.setUnconfirmedPoints(onePoint({0, 0, 0.15}));
+  pebble.reset(floor);
+  for (const auto& [key, layers] : layersByKey(pebble)) ASSERT_EQ(layers.face_class, bare.at(key).face_class);
+
   map.setUnconfirmedPoints(onePoint({0, 0, 0.4}));
   map.setUnconfirmedPoints({});
   for (const auto& [key, layers] : layersByKey(map)) ASSERT_EQ(layers.face_class, bare.at(key).face_class);

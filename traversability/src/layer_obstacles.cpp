@@ -159,7 +159,10 @@ bool LayerComputer::unconfirmedInBody(const StoredFace& f, double ref_a, double 
   if (offset.norm() > unconfirmedReachM()) return false;
   const Eigen::Vector2d d = p.head<2>() - f.centroid_L.head<2>();
   const double height = p.z() - f.centroid_L.z() - ref_a * d.x() - ref_b * d.y();
-  return height > profile_.max_step_m + kBodyToleranceM && height <= profile_.min_clearance_m;
+  // A point over the step is in the body; a lower one that stands proud of the ground belongs to
+  // something whose top may be (EvidenceModel::proud_point_rise_m).
+  const double lowest = std::min(profile_.max_step_m, profile_.evidence.proud_point_rise_m);
+  return height > lowest + kBodyToleranceM && height <= profile_.min_clearance_m;
 }
 
 bool LayerComputer::unconfirmedInBody(const StoredFace& f, const Eigen::Vector3d& p) const {

@@ -72,6 +72,8 @@ const std::vector<NumericKey>& numericKeys() {
        [](RobotProfile& p) -> double& { return p.evidence.obstacle_support_m; }},
       {"evidence.unconfirmed_point_extension_m", {0, 100, false, false}, false,
        [](RobotProfile& p) -> double& { return p.evidence.unconfirmed_point_extension_m; }},
+      {"evidence.proud_point_rise_m", {0, 10, false, false}, false,
+       [](RobotProfile& p) -> double& { return p.evidence.proud_point_rise_m; }},
       {"evidence.uncertain_cost", {0, 1, false, false}, false,
        [](RobotProfile& p) -> double& { return p.evidence.uncertain_cost; }},
   };

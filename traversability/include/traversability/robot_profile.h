@@ -45,6 +45,10 @@ struct EvidenceModel {
   /// mesher::Mesher::unconfirmedPoints) inside a face's body is a possible obstacle this far
   /// around it (a rock seen by one keyframe: its size unknown).
   double unconfirmed_point_extension_m = 0.5;
+  /// A SLAM point this high over the ground plane under a footprint belongs to an object whose
+  /// top nobody measured: a sparse point lies anywhere on it, rarely at its top. An unconfirmed
+  /// point higher than this (or than max_step_m, if lower) is a possible obstacle.
+  double proud_point_rise_m = 0.1;
   /// Cost of an uncertain face, for planners allowed to enter one, in [0, 1].
   double uncertain_cost = 0.9;
 };

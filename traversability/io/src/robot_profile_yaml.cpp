@@ -62,7 +62,7 @@ class ProfileReader {
         readSection(value, key,
                     {"point_noise_m", "relief_per_m_observed", "relief_per_m_unobserved", "driven_uncertainty_m",
                      "obstacle_extension", "max_obstacle_extension_m", "obstacle_support_m",
-                     "unconfirmed_point_extension_m", "uncertain_cost"},
+                     "unconfirmed_point_extension_m", "proud_point_rise_m", "uncertain_cost"},
                     profile);
       } else if (key == "sensor_height_m") {
         profile.sensor_height_m = readNumber(value, key, kSensorHeightRange);

@@ -23,8 +23,8 @@ namespace terramesh::traversability {
 ///   (0, 20], a non-zero quaternion; sensor_height_m, if given too, equal to z),
 ///   evidence: {point_noise_m [0, 10], relief_per_m_observed [0, 10], relief_per_m_unobserved
 ///   [0, 10], driven_uncertainty_m [0, 10], obstacle_extension [0, 10], max_obstacle_extension_m
-///   [0, 100], obstacle_support_m [0, 100], unconfirmed_point_extension_m [0, 100], uncertain_cost
-///   [0, 1]}.
+///   [0, 100], obstacle_support_m [0, 100], unconfirmed_point_extension_m [0, 100], proud_point_rise_m
+///   [0, 10], uncertain_cost [0, 1]}.
 /// The shipped profiles (traversability/robots/*.yaml) repeat it in their header comment.
 /// @throw terramesh::InputError naming the file, the key (and line), the value and the allowed
 ///        range or type.
