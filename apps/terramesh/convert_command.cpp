@@ -11,6 +11,7 @@
 #include "common/input_error.h"
 #include "datasets/stream_format.h"
 #include "datasets/stream_reader.h"
+#include "input_options.h"
 #include "mesher/mesh_io.h"
 #include "traversability/map_directory.h"
 
@@ -108,7 +109,8 @@ std::string convertOne(const ConvertOptions& o) {
       summary << "read by PCL: " << describe(mesh);
     }
   } else if (out_ext == ".tmstream") {
-    const datasets::SlamStream stream = datasets::readAnyStream(in);
+    // The stream `terramesh mesh IN` meshes: LiDAR input thinned and merged with mesh's defaults.
+    const datasets::SlamStream stream = datasets::readAnyStream(in, streamReadOptionsFrom(InputOptions()));
     datasets::writeStreamFile(out, stream);
     summary << "stream: " << stream.events.size() << " events";
   } else if (out_ext == ".pcd" || out_ext == ".bt") {

@@ -65,6 +65,38 @@ void addRosbagOptions(CLI::App& app, InputOptions& options) {
       ->option_text("NAME");
 }
 
+/// LiDAR input (KITTI sequences, bags of untracked returns): range, voxels, merging.
+void addLidarOptions(CLI::App& app, InputOptions& options) {
+  app.add_option("--min-range-m", options.min_range_m,
+                 "LiDAR input: drop returns nearer than D to the sensor (default 0)")
+      ->option_text("D")
+      ->check(nonNegativeNumber());
+  app.add_option("--max-range-m", options.max_range_m,
+                 "LiDAR input: drop returns farther than D from the sensor (default 40, the mesher's default "
+                 "--max-distance-m)")
+      ->option_text("D")
+      ->check(positiveNumber());
+  app.add_option("--lidar-voxel-m", options.lidar_voxel_m,
+                 "LiDAR input: keep one return per voxel of this size and scan (the one nearest its centre) and "
+                 "merge later scans' returns into that voxel's point (default 0.15; 0: every return its own point)")
+      ->option_text("M")
+      ->check(nonNegativeNumber());
+  app.add_option("--lidar-max-views", options.lidar_max_views,
+                 "LiDAR input with voxels: a voxel's point takes at most N views (rays); later returns in it are "
+                 "dropped (default 2; 0: no cap)")
+      ->option_text("N");
+}
+
+datasets::LidarScanOptions lidarOptionsFrom(const InputOptions& values) {
+  datasets::LidarScanOptions options;
+  options.min_range_m = values.min_range_m;
+  options.max_range_m = values.max_range_m;
+  options.voxel_size_m = values.lidar_voxel_m;
+  options.max_views_per_point = values.lidar_max_views;
+  throwProblems("LiDAR input", options.problems());
+  return options;
+}
+
 datasets::RosbagOptions rosbagOptionsFrom(const InputOptions& values) {
   datasets::RosbagOptions options;
   options.cloud_topic = values.cloud_topic;
@@ -111,9 +143,8 @@ void addInputOptions(CLI::App& app, InputOptions& options) {
                  "KITTI input: keep N returns per scan, a seeded uniform subset (0: all)")
       ->option_text("N")
       ->check(nonNegativeNumber());
-  app.add_option("--max-range-m", options.max_range_m, "KITTI input: drop returns farther than D from the sensor")
-      ->option_text("D");
   addRosbagOptions(app, options);
+  addLidarOptions(app, options);
 }
 
 datasets::StreamReadOptions streamReadOptionsFrom(const InputOptions& values) {
@@ -126,9 +157,10 @@ datasets::StreamReadOptions streamReadOptionsFrom(const InputOptions& values) {
   if (values.poses) kitti.poses_path = *values.poses;
   if (values.frames) parseFrames(*values.frames, kitti);
   kitti.max_returns_per_scan = values.max_returns_per_scan;
-  if (values.max_range_m) kitti.max_range_m = *values.max_range_m;
+  kitti.lidar = lidarOptionsFrom(values);
   throwProblems("KITTI input", kitti.problems());
   options.rosbag = rosbagOptionsFrom(values);
+  options.rosbag.lidar = kitti.lidar;
   return options;
 }
 

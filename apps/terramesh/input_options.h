@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <ostream>
 #include <vector>
@@ -11,15 +12,20 @@
 namespace terramesh::cli {
 
 /// How to read the input stream (options shared by `mesh` and `bench`): the format, Bundler's
-/// image list, for KITTI LiDAR sequences the poses file, frame range and thinning, and for ROS
-/// bags the topics, the clouds' frame and the pose matching.
+/// image list, for KITTI LiDAR sequences the poses file, frame range and thinning, for ROS bags
+/// the topics, the clouds' frame and the pose matching, and for LiDAR input of either the range
+/// limits, voxels and merging (on by default: datasets::LidarScanOptions).
 struct InputOptions {
   std::string input_format = "auto";
   std::optional<std::string> image_list;
   std::optional<std::string> poses;
   std::optional<std::string> frames;  ///< "A[:B[:S]]"
   std::size_t max_returns_per_scan = 0;
-  std::optional<double> max_range_m;
+  /// LiDAR input (KITTI sequences, bags without point ids): range limits, voxels, view cap.
+  double min_range_m = datasets::LidarScanOptions().min_range_m;
+  double max_range_m = datasets::LidarScanOptions().max_range_m;
+  double lidar_voxel_m = datasets::LidarScanOptions().voxel_size_m;
+  std::uint32_t lidar_max_views = datasets::LidarScanOptions().max_views_per_point;
   std::string cloud_topic;
   std::string pose_topic;
   std::vector<std::string> tf_frames;  ///< PARENT CHILD

@@ -169,10 +169,7 @@ std::vector<std::string> KittiOdometryOptions::problems() const {
   std::vector<std::string> found;
   if (frame_step == 0) found.push_back("frame_step must be at least 1");
   if (first_frame > last_frame) found.push_back("first_frame must not exceed last_frame");
-  if (!(min_range_m >= 0) || !std::isfinite(min_range_m)) {
-    found.push_back("min_range_m must be a finite number >= 0");
-  }
-  if (!(max_range_m > min_range_m)) found.push_back("max_range_m must exceed min_range_m");
+  for (const std::string& problem : lidar.problems()) found.push_back("lidar." + problem);
   if (!(pose_time_tolerance_s >= 0)) found.push_back("pose_time_tolerance_s must be >= 0");
   return found;
 }
@@ -295,19 +292,18 @@ SlamStream readKittiOdometry(const std::filesystem::path& sequence_directory,
   stream.sensor_up_S = Eigen::Vector3d::UnitZ();  // Velodyne: x forward, y left, z up
   stream.description = sequence_directory.string() + " (KITTI odometry Velodyne, " +
                        std::to_string(scans.size()) + " scans)";
-  const double min_range_sq = options.min_range_m * options.min_range_m;
-  const double max_range_sq = options.max_range_m * options.max_range_m;
+  LidarScanFilter filter(options.lidar);
   std::vector<std::uint32_t> kept;
   for (std::size_t s = 0; s < scans.size(); ++s) {
     const auto& [frame, path] = scans[s];
     const std::vector<VelodyneReturn> returns = readVelodyneScan(path);
     kept.clear();
     for (std::size_t i = 0; i < returns.size(); ++i) {
-      const double range_sq = returns[i].position_S.cast<double>().squaredNorm();
-      if (range_sq >= min_range_sq && range_sq <= max_range_sq) {
+      if (options.lidar.inRange(returns[i].position_S.cast<double>().squaredNorm())) {
         kept.push_back(static_cast<std::uint32_t>(i));
       }
     }
+    filter.countDroppedOutOfRange(returns.size() - kept.size());
     if (options.max_returns_per_scan > 0) {
       keepRandomSubset(kept, options.max_returns_per_scan,
                        options.seed ^ (0x9E3779B97F4A7C15ull * (frame + 1)));
@@ -322,9 +318,15 @@ SlamStream readKittiOdometry(const std::filesystem::path& sequence_directory,
       keyframe.observations.push_back({{(static_cast<std::uint64_t>(frame) << 32) | i},
                                        pose_W_S * returns[i].position_S.cast<double>()});
     }
+    try {
+      filter.filter(keyframe);
+    } catch (const std::out_of_range& error) {
+      throw InputError(path.string(), "", error.what());
+    }
     stream.keyframe_names[keyframe.id] = path.filename().string();
     stream.events.emplace_back(std::move(keyframe));
   }
+  stream.reader_notes.push_back(filter.describe());
   return stream;
 }
 

@@ -280,6 +280,7 @@ struct CloudsRead {
   bool ids_from_field = false;
   std::string frame_id;      ///< the first cloud's
   std::string frame_reason;  ///< why in_world is what it is
+  std::string lidar_filter;  ///< LidarScanFilter::describe() of clouds without ids
 };
 
 /// The keyframe of cloud `index`, posed by `pose`, with the decoded points.
@@ -308,6 +309,7 @@ mesher::Keyframe cloudKeyframe(std::size_t index, const TimedPose& pose,
 CloudsRead readClouds(const rosbag::Bag& bag, const std::string& file, const std::string& topic,
                       const PoseTrack& track, const RosbagOptions& options, SlamStream& stream) {
   CloudsRead read;
+  LidarScanFilter filter(options.lidar);
   forEachMessage<sensor_msgs::PointCloud2>(
       bag, file, topic, internal::kPointCloud2Type,
       [&](const sensor_msgs::PointCloud2& cloud, std::size_t index) {
@@ -345,9 +347,18 @@ CloudsRead readClouds(const rosbag::Bag& bag, const std::string& file, const std
         }
         read.points += decoded.positions.size();
         read.non_finite += decoded.non_finite_points;
-        stream.events.emplace_back(cloudKeyframe(index, *pose, decoded, read.in_world));
+        mesher::Keyframe keyframe = cloudKeyframe(index, *pose, decoded, read.in_world);
+        if (!read.ids_from_field) {
+          try {
+            filter.filter(keyframe);
+          } catch (const std::out_of_range& error) {
+            throw InputError(file, messageLocation(topic, index), error.what());
+          }
+        }
+        stream.events.emplace_back(std::move(keyframe));
         stream.keyframe_names[{index}] = topic + " message " + std::to_string(index);
       });
+  if (!read.ids_from_field) read.lidar_filter = filter.describe();
   return read;
 }
 
@@ -397,7 +408,9 @@ void describeClouds(const CloudsRead& read, const PoseTrack& track, const Rosbag
     stream.recommended_min_views = 1;
     stream.reader_notes.push_back(
         "no field \"" + options.point_id_field +
-        "\": every return is its own point (seen once), min_views 1 advised");
+        (options.lidar.voxel_size_m > 0 ? "\": untracked LiDAR returns, min_views 1 advised"
+                                        : "\": every return is its own point (seen once), min_views 1 advised"));
+    stream.reader_notes.push_back(read.lidar_filter);
   }
   const std::string sensor_frame = !track.sensor_frame.empty() ? track.sensor_frame
                                    : read.in_world             ? std::string()
@@ -469,6 +482,7 @@ std::vector<std::string> RosbagOptions::problems() const {
   if (!(pose_time_tolerance_s >= 0) || !std::isfinite(pose_time_tolerance_s)) {
     found.push_back("pose_time_tolerance_s must be a finite number >= 0");
   }
+  for (const std::string& problem : lidar.problems()) found.push_back("lidar." + problem);
   return found;
 }
 

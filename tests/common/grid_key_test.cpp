@@ -1,4 +1,4 @@
-// Grid keys: the cell of a point, the packed 2-D key (unique over a range of signed cells) and
+// Grid keys: the cell of a point, the packed 2-D and 3-D keys (unique over a range of signed cells) and
 // the hashes the grids use (exact values, since hash tables iterate in their order).
 #include <gtest/gtest.h>
 
@@ -38,6 +38,25 @@ TEST(GridKeyTest, PackedKeyHoldsTheLow32BitsSideBySide) {
   EXPECT_EQ(packCell2(0, -1), 0x00000000ffffffffull);
   EXPECT_EQ(packCell2(-2, -3), 0xfffffffefffffffdull);
   static_assert(packCell2(3, 4) == ((3ull << 32) | 4ull), "constexpr");
+}
+
+TEST(GridKeyTest, Packed3DKeysAreUniqueWithinTheirRangeAndLeaveBit63Clear) {
+  std::unordered_set<std::uint64_t> seen;
+  constexpr std::int64_t lo = -(std::int64_t{1} << 20), hi = (std::int64_t{1} << 20) - 1;
+  for (const std::int64_t i : {lo, lo + 1, std::int64_t{-1}, std::int64_t{0}, std::int64_t{1}, hi - 1, hi}) {
+    for (const std::int64_t j : {lo, std::int64_t{-1}, std::int64_t{0}, hi}) {
+      for (const std::int64_t k : {lo, std::int64_t{-2}, std::int64_t{-1}, std::int64_t{0}, std::int64_t{1}, hi}) {
+        ASSERT_TRUE(fitsPackCell3(i, j, k));
+        const std::uint64_t key = packCell3(i, j, k);
+        EXPECT_TRUE(seen.insert(key).second) << i << ' ' << j << ' ' << k;
+        EXPECT_EQ(key >> 63, 0u);
+      }
+    }
+  }
+  EXPECT_FALSE(fitsPackCell3(hi + 1, 0, 0));
+  EXPECT_FALSE(fitsPackCell3(0, lo - 1, 0));
+  EXPECT_FALSE(fitsPackCell3(0, 0, hi + 1));
+  static_assert(packCell3(1, 2, 3) == ((1ull << 42) | (2ull << 21) | 3ull), "constexpr");
 }
 
 TEST(GridKeyTest, SpatialHashIsTeschnersInWrappingArithmetic) {

@@ -283,8 +283,11 @@ class KittiBagTest(BagCase):
     def test_sensor_frame_scans_match_the_kitti_reader(self):
         bag, sequence = self.write_inputs()
         first, last = self.FRAMES[0], self.FRAMES[-1]
-        kitti_out, _ = self.mesh(sequence, "kitti", "--poses", POSES, "--frames", f"{first}:{last}", "--quiet")
-        bag_out, stderr = self.mesh(bag, "bag")
+        # Every return as its own point (--lidar-voxel-m 0): the voxels would turn the readers'
+        # 1e-5 m differences into different returns kept where one lies on a voxel's face.
+        kitti_out, _ = self.mesh(sequence, "kitti", "--poses", POSES, "--frames", f"{first}:{last}",
+                                 "--lidar-voxel-m", "0", "--quiet")
+        bag_out, stderr = self.mesh(bag, "bag", "--lidar-voxel-m", "0")
         self.assertIn("clouds in the sensor frame (points moved into the world by the pose): its header.frame_id "
                       "\"velodyne\" is the poses' child frame", stderr)
         self.assertIn("no field \"id\": every return is its own point (seen once), min_views 1 advised", stderr)
@@ -330,7 +333,9 @@ class SyntheticLidarBagTest(BagCase):
     every STEP-th return so that the test is quick: the KITTI sequence folder `generate --lidar`
     writes, that folder converted to a .tmstream (`terramesh convert`), and a bag of the stream's
     keyframes as registered float64 clouds (no `id` field: the bag reader numbers the returns as the
-    KITTI reader does, keyframe << 32 | index) posed by Odometry messages of the Velodyne frame."""
+    KITTI reader does) posed by Odometry messages of the Velodyne frame. With the LiDAR defaults on
+    (one return per 0.15 m voxel and scan, merged into the voxel's point), the folder and the bag are
+    filtered by the same rule and the stream holds its result, which filtering again leaves as it is."""
 
     SCANS = 3
     STEP = 20
@@ -363,18 +368,28 @@ class SyntheticLidarBagTest(BagCase):
 
         keyframes = read_tmstream_keyframes(stream)
         self.assertEqual([k[0] for k in keyframes], list(range(self.SCANS)))
+        # One observation per voxel and scan; later scans see earlier scans' points again (same id,
+        # same position) and add new ones.
+        seen = {}
+        for _, _, _, observations in keyframes:
+            ids = [o[0] for o in observations]
+            self.assertEqual(len(set(ids)), len(ids))
+            for point, x, y, z in observations:
+                self.assertEqual(seen.setdefault(point, (x, y, z)), (x, y, z))
+        first_ids, last_ids = ({o[0] for o in k[3]} for k in (keyframes[0], keyframes[-1]))
+        self.assertGreater(len(first_ids & last_ids), 0)
+        self.assertGreater(len(last_ids - first_ids), 0)
         bag_path = self.path("lidar.bag")
         with rosbag.Bag(bag_path, "w") as bag:
             for index, (_, centre, q_wxyz, observations) in enumerate(keyframes):
                 time = stamp(100.0 + 0.1 * index)
-                # The stream numbers the returns keyframe << 32 | index, as the bag reader will.
-                self.assertEqual([o[0] for o in observations], [(index << 32) | i for i in range(len(observations))])
                 bag.write("/odom", odometry(time, "map", "velodyne", centre, q_wxyz[1:] + q_wxyz[:1]), t=time)
                 columns = [(axis, FLOAT64, [o[k + 1] for o in observations]) for k, axis in enumerate("xyz")]
                 bag.write("/velodyne_registered", cloud_message(columns, time, "map"), t=time)
         bag_out, stderr = self.mesh(bag_path, "from_bag")
         self.assertEqual(self.file_bytes(bag_out, "mesh.ply"), self.file_bytes(stream_out, "mesh.ply"))
-        self.assertIn("no field \"id\": every return is its own point (seen once), min_views 1 advised", stderr)
+        self.assertIn("no field \"id\": untracked LiDAR returns, min_views 1 advised", stderr)
+        self.assertIn("one per 0.15 m voxel and scan", stderr)
         self.assertIn("sensor up axis +z (sensor frame \"velodyne\")", stderr)
         vertices, faces, closed = mesh_counts(bag_out)
         self.assertTrue(closed)
@@ -416,6 +431,18 @@ class BadBagTest(BagCase):
             self.assertIn(fragment, lines[0])
         self.assertFalse(os.path.exists(out), "no output may be written for bad input")
         return lines[0]
+
+    def test_bad_lidar_options_are_usage_errors(self):
+        # LiDAR options are checked before anything is read or written (exit 2, the flag named).
+        bag = self.lidar_bag()
+        for options, fragment in ((("--lidar-voxel-m", "-0.1"), "--lidar-voxel-m: must be >= 0, got -0.1"),
+                                  (("--lidar-max-views", "-1"), "--lidar-max-views"),
+                                  (("--min-range-m", "50"), "max_range_m must exceed min_range_m")):
+            out = self.path("out")
+            result = run("mesh", bag, "-o", out, *options)
+            self.assertEqual(result.returncode, 2, result.stderr)
+            self.assertIn(fragment, result.stderr)
+            self.assertFalse(os.path.exists(out))
 
     def test_a_good_small_bag_meshes(self):
         # The baseline of the refusals below: the same bag without the fault is read.

@@ -124,7 +124,7 @@ TEST(KittiOdometryReader, FramesStepRangeAndSubsample) {
   options.first_frame = 2;
   options.frame_step = 4;
   options.max_returns_per_scan = 1000;
-  options.max_range_m = 20.0;
+  options.lidar.max_range_m = 20.0;
   const auto keyframes = keyframesOf(datasets::readKittiOdometry(kSequence, options));
   ASSERT_EQ(keyframes.size(), 3u);
   EXPECT_EQ(keyframes[0].id.value, 2u);
@@ -154,8 +154,8 @@ TEST(KittiOdometryReader, FramesStepRangeAndSubsample) {
 TEST(KittiOdometryReader, InvalidOptionsListEveryProblem) {
   KittiOdometryOptions options = withPoses();
   options.frame_step = 0;
-  options.min_range_m = 5;
-  options.max_range_m = 2;
+  options.lidar.min_range_m = 5;
+  options.lidar.max_range_m = 2;
   EXPECT_EQ(options.problems().size(), 2u);
   EXPECT_THROW(datasets::readKittiOdometry(kSequence, options), std::invalid_argument);
 }

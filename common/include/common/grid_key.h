@@ -44,6 +44,20 @@ constexpr std::uint64_t packCell2(std::int64_t i, std::int64_t j) noexcept {
   return (static_cast<std::uint64_t>(i) << 32) | (static_cast<std::uint64_t>(j) & 0xffffffffull);
 }
 
+/// Cells that packCell3 can pack: every index in [-2^20, 2^20).
+constexpr bool fitsPackCell3(std::int64_t i, std::int64_t j, std::int64_t k) noexcept {
+  constexpr std::int64_t kLimit = std::int64_t{1} << 20;
+  return i >= -kLimit && i < kLimit && j >= -kLimit && j < kLimit && k >= -kLimit && k < kLimit;
+}
+
+/// One word for a 3-D cell: the low 21 bits of i, j and k (bits 62-42, 41-21, 20-0; bit 63 is
+/// 0), unique for cells where fitsPackCell3 holds, so the word can key a table or name the cell.
+constexpr std::uint64_t packCell3(std::int64_t i, std::int64_t j, std::int64_t k) noexcept {
+  constexpr std::uint64_t kMask = (std::uint64_t{1} << 21) - 1;
+  return ((static_cast<std::uint64_t>(i) & kMask) << 42) | ((static_cast<std::uint64_t>(j) & kMask) << 21) |
+         (static_cast<std::uint64_t>(k) & kMask);
+}
+
 /// The spatial hash of Teschner et al. (2003), three large primes XORed, in wrapping unsigned
 /// arithmetic. Callers pass the coordinates as 64-bit words: sign-extended (the cast of a signed
 /// index) or zero-extended from 32 bits (the cast of a std::uint32_t) give different, equally

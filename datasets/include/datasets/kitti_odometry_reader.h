@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "datasets/lidar_scan_filter.h"
 #include "datasets/slam_stream.h"
 
 namespace terramesh::datasets {
@@ -36,9 +37,9 @@ struct KittiOdometryOptions {
   /// Seed of that subset; scan F uses a generator seeded from (seed, F), so a frame's subset
   /// does not depend on the other frames read.
   std::uint64_t seed = 1;
-  /// Keep returns whose distance from the sensor is in [min_range_m, max_range_m].
-  double min_range_m = 0.0;
-  double max_range_m = std::numeric_limits<double>::infinity();
+  /// Range limits, voxels and merging across scans (LidarScanFilter). The reader's default keeps
+  /// every return; `LidarScanOptions()` holds the LiDAR defaults that `terramesh` uses.
+  LidarScanOptions lidar = LidarScanOptions::everyReturn();
   /// TUM poses: largest gap between a scan's time (times.txt) and the nearest pose.
   double pose_time_tolerance_s = 0.01;
 
@@ -87,7 +88,10 @@ std::vector<VelodyneReturn> readVelodyneScan(const std::filesystem::path& path);
 /// T_W_S = T_W_cam0(frame) * Tr: the keyframe centre is the sensor origin in the world, its
 /// rotation the Velodyne-to-world rotation, and every kept return is an observation at
 /// T_W_S * x_S with a unique point id (frame << 32 | index of the return in its file), so that
-/// each return is a ray from the sensor. World = cam0 of the poses' first frame (metres): the
+/// each return is a ray from the sensor. `options.lidar` then limits the range (before the
+/// random subset of max_returns_per_scan) and, with voxels, keeps one return per voxel and scan
+/// and merges the scans' returns into the voxels' points (ids: the voxel keys, LidarScanFilter);
+/// `SlamStream::reader_notes` says what it kept. World = cam0 of the poses' first frame (metres): the
 /// stream says metres_per_unit = 1 and recommended_min_views = 1. keyframe_names are the scan
 /// files' names. TUM poses are matched to scans through `times.txt` in the directory; without it
 /// (KITTI's Velodyne download has none), by order when there is one pose per scan in velodyne/.

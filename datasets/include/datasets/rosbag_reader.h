@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "datasets/lidar_scan_filter.h"
 #include "datasets/slam_stream.h"
 
 namespace terramesh::datasets {
@@ -42,6 +43,10 @@ struct RosbagOptions {
   /// An integer field of this name gives the point ids (tracked points keep their identity
   /// across keyframes); without it, every return is its own point.
   std::string point_id_field = "id";
+  /// Clouds without the point-id field (LiDAR returns): range limits, voxels and merging across
+  /// clouds (LidarScanFilter). The reader's default keeps every return; `LidarScanOptions()`
+  /// holds the LiDAR defaults that `terramesh` uses. Clouds with ids are used as they are.
+  LidarScanOptions lidar = LidarScanOptions::everyReturn();
 
   /// Every problem with these options (empty when valid).
   std::vector<std::string> problems() const;
@@ -62,8 +67,8 @@ std::vector<RosbagTopic> listRosbagTopics(const std::filesystem::path& path);
 /// topic becomes one keyframe event (id = its index on the topic, in bag order), posed by the
 /// pose topic (or tf) at the cloud's header stamp as RosbagOptions says. Points are the finite
 /// x y z (float32 or float64) of the cloud; with the point-id field their ids come from it, else
-/// point id = keyframe id << 32 | index of the point in the cloud and the stream advises
-/// min_views 1. Units are metres (REP 103): metres_per_unit = 1, known. The sensor's up axis is
+/// point id = keyframe id << 32 | index of the point in the cloud, the stream advises
+/// min_views 1 and `options.lidar` filters the clouds as the KITTI reader does its scans. Units are metres (REP 103): metres_per_unit = 1, known. The sensor's up axis is
 /// +z (REP 103 body frames), -y for an optical frame (a child frame named "*optical*").
 /// `SlamStream::reader_notes` says which topics, frame and id field were used and what was
 /// dropped; `reader_warnings` when most clouds were dropped.
