@@ -14,6 +14,8 @@ packages=(
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libtf2-msgs-dev
   pluginlib-dev librcpputils-dev libament-index-cpp-dev
   python3-rosbag python3-sensor-msgs python3-nav-msgs python3-geometry-msgs python3-tf2-msgs
+  # Tiles meshed in parallel (scripts/slurm/): the one-node cluster of the tiles test
+  slurm-wlm munge
 )
 # Node.js and npm (the viewer bundle, its browser tests), unless a Node.js with its own npm is there.
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)

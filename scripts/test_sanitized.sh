@@ -59,7 +59,9 @@ export LSAN_OPTIONS="suppressions=$source_dir/cmake/lsan_suppressions.txt:print_
 # cli_generate, cli_hazards, cli_plan, cli_compare, cli_checkpoint.BadCheckpointTest and the
 # bad-input tests. And the baseline modes' runs of the heaviest mesher tests (the same mesher code
 # with other weights: their proposed-mode runs, the soaks and the mode tests keep them sanitized).
-excluded='^(AllModes/(SceneReconstruction|Exactness)\..*/(romanoni15|litvinov13)|install\.|cli_mesh\.(SyntheticStreamTest|EvalTest)$|cli_traverse\.(StreetTest|GarageTest)$|cli_evidence\.|cli_checkpoint\.(StopSignalTest|KillAndResumeTest)$)'
+# And the tiles run on the one-node Slurm cluster (cli_tiles.TilesTest: every tile meshed twice;
+# the tiling library runs sanitized in tiling_test, the CLI's paths in cli_tiles.TilesBadInputTest).
+excluded='^(AllModes/(SceneReconstruction|Exactness)\..*/(romanoni15|litvinov13)|install\.|cli_mesh\.(SyntheticStreamTest|EvalTest)$|cli_traverse\.(StreetTest|GarageTest)$|cli_evidence\.|cli_checkpoint\.(StopSignalTest|KillAndResumeTest)$|cli_tiles\.TilesTest$)'
 # Smaller data (docs/reliability.md, "Sanitizers"): the invariant soak with 200 keyframes per mode
 # instead of 2,000/1,000; the Release suite runs the full count.
 export TERRAMESH_SOAK_KEYFRAMES="${TERRAMESH_SANITIZE_SOAK_KEYFRAMES:-200}"

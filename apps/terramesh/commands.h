@@ -24,5 +24,6 @@ int runPlan(const std::vector<std::string>& args);
 int runCompare(const std::vector<std::string>& args);
 int runConvert(const std::vector<std::string>& args);
 int runPairs(const std::vector<std::string>& args);
+int runTiles(const std::vector<std::string>& args);
 
 }  // namespace terramesh::cli

@@ -37,6 +37,8 @@ const Command kCommands[] = {
     {"convert", "maps to and from PCL (PolygonMesh, PCD) and OctoMap (.bt), by extension", terramesh::cli::runConvert},
     {"pairs", "start/goal pairs on a labelled ground truth with whether the truth joins them for a robot",
      terramesh::cli::runPairs},
+    {"tiles", "cut a stream into tiles meshed apart (plan), join the meshed tiles into a tiled map (merge)",
+     terramesh::cli::runTiles},
 };
 
 void printUsage(std::ostream& out) {

@@ -19,6 +19,7 @@
 #include "input_options.h"
 #include "mesh_checkpoint.h"
 #include "mesh_frame_hints.h"
+#include "mesh_tile.h"
 #include "mesher_options.h"
 #include "progress_bar.h"
 #include "stop_signal.h"
@@ -90,6 +91,7 @@ struct MeshOptions {
   std::string input_path, output_dir, mode_name = "proposed", format = "ply";
   long snapshot_every = 0, checkpoint_every = 0;
   std::optional<std::string> resume_path;
+  std::optional<std::string> tile;  ///< PLAN:I
   bool drop_steiner = false, check = false, quiet = false;
   InputOptions input;
   MesherOptions mesher;
@@ -117,6 +119,10 @@ void declareOptions(CLI::App& app, MeshOptions& o) {
                  "continue an interrupted run from its checkpoint: give the same INPUT and input options; the "
                  "mesher options come from the checkpoint")
       ->option_text("CHECKPOINT");
+  app.add_option("--tile", o.tile,
+                 "mesh tile I of a plan written by terramesh tiles plan, from INPUT (the planned stream); writes "
+                 "into the tile's folder beside the plan (no -o); needs --robot (docs/tiles.md)")
+      ->option_text("PLAN:I");
   app.add_flag("--drop-steiner", o.drop_steiner,
                "also write mesh_open.ply: the surface without faces touching Steiner vertices");
   app.add_flag("--check-invariants", o.check, "check every invariant after each update (slow; for testing)");
@@ -131,7 +137,7 @@ void declareOptions(CLI::App& app, MeshOptions& o) {
 /// output exists, then the events (run), then the outputs and the summary (finish).
 class MeshJob {
  public:
-  MeshJob(const MeshOptions& o, mesher::MesherMode mode);
+  MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<MeshTile> tile);
   /// Applies the events from the first one not yet applied; stops early on SIGINT/SIGTERM (within a
   /// StopSignalScope).
   void run();
@@ -142,10 +148,13 @@ class MeshJob {
   void afterEvent(std::size_t i, const datasets::StreamEvent& event, const mesher::UpdateStats& stats);
   void saveCheckpoint(std::size_t next_event);
   void writeSummary(const mesher::TriangleMesh& mesh, const std::filesystem::path& mesh_path);
+  /// The events meshed: the stream's, or the tile's input.
+  const std::vector<datasets::StreamEvent>& events() const { return tile_ ? tile_->input().events : stream_.events; }
 
   const MeshOptions& o_;
   const std::filesystem::path input_, output_;
   const datasets::SlamStream stream_;
+  std::optional<MeshTile> tile_;
   std::optional<ResumedMeshRun> resumed_;
   mesher::MesherConfig config_;
   std::optional<TraversabilitySession> traversability_;
@@ -161,15 +170,19 @@ class MeshJob {
   int stop_signal_ = 0;
 };
 
-MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode)
+MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<MeshTile> tile)
     : o_(o),
       input_(o.input_path),
       output_(o.output_dir),
-      stream_(datasets::readAnyStream(input_, streamReadOptionsFrom(o.input))) {
+      stream_(datasets::readAnyStream(input_, streamReadOptionsFrom(o.input))),
+      tile_(std::move(tile)) {
   if (!o.quiet) printReaderNotes(std::cerr, stream_);
+  // A tile meshes its own events in the frame of the whole stream (config, up and evidence from all).
+  if (tile_) tile_->selectInput(stream_, input_);
   if (o.resume_path) resumed_ = readMeshCheckpoint(*o.resume_path, stream_);
   config_ = resumed_ ? resumed_->mesher.config() : mesherConfigFrom(o.mesher, mode, stream_);
   traversability_ = TraversabilitySession::fromOptions(o.traversability, stream_, config_.metres_per_unit, output_);
+  if (tile_) tile_->attach(*traversability_, exportConfigFrom(o.traversability.exports), config_.metres_per_unit);
   evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr);
   if (resumed_ && resumed_->state.trajectory_evidence != evidence_.settings()) {
     throw InputError(*o.resume_path, "run state.trajectory_evidence",
@@ -182,7 +195,7 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode)
   if (o.snapshot_every > 0) std::filesystem::create_directories(output_ / "snapshots");
 
   if (resumed_) state_ = resumed_->state;
-  state_.events = stream_.events.size();
+  state_.events = events().size();
   if (o.checkpoint_every > 0 && !resumed_) state_.stream_fingerprint = streamFingerprint(stream_);
   state_.trajectory_evidence = evidence_.settings();
   mesher_.emplace(resumed_ ? std::move(resumed_->mesher) : mesher::Mesher(config_));
@@ -199,7 +212,7 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode)
   totals_ = state_.totals;
   keyframes_ = state_.keyframes;
   first_event_ = state_.next_event;
-  end_event_ = stream_.events.size();
+  end_event_ = events().size();
 }
 
 void MeshJob::saveCheckpoint(std::size_t next_event) {
@@ -211,9 +224,9 @@ void MeshJob::saveCheckpoint(std::size_t next_event) {
 }
 
 void MeshJob::run() {
-  ProgressBar progress("meshing", stream_.events.size());
-  for (std::size_t i = first_event_; i < stream_.events.size(); ++i) {
-    const datasets::StreamEvent& event = stream_.events[i];
+  ProgressBar progress("meshing", events().size());
+  for (std::size_t i = first_event_; i < events().size(); ++i) {
+    const datasets::StreamEvent& event = events()[i];
     afterEvent(i, event, evidence_.apply(*mesher_, event));
     stop_signal_ = StopSignalScope::requested();
     const bool checkpoint_due = o_.checkpoint_every > 0 && std::holds_alternative<mesher::Keyframe>(event) &&
@@ -253,7 +266,7 @@ int MeshJob::finish() {
   const std::filesystem::path mesh_path = output_ / ("mesh." + o_.format);
   writeMesh(mesh_path, mesh, frame_comments_);
   writeFileAtomically(output_ / "keyframes.csv", csv_.str());
-  writeRunExtras(stream_, output_);
+  writeRunExtras(tile_ ? tile_->input() : stream_, output_);
   writeSummary(mesh, mesh_path);
   return stop_signal_ != 0 ? exitCodeForSignal(stop_signal_) : kExitOk;
 }
@@ -262,10 +275,11 @@ void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesyst
   std::ostringstream summary;
   summary << "input: " << input_.string() << "\nmode: " << mesher::toString(config_.mode())
           << "\nmetres_per_unit: " << config_.metres_per_unit << "\nkeyframes: " << keyframes_
-          << "\nevents: " << stream_.events.size() << "\nmesh: " << mesh_path.string() << " ("
+          << "\nevents: " << events().size() << "\nmesh: " << mesh_path.string() << " ("
           << describeTopology(mesher::analyzeTopology(mesh)) << ")\n";
   for (const std::string& note : stream_.reader_notes) summary << "input: " << note << '\n';
   for (const std::string& warning : stream_.reader_warnings) summary << "warning: " << warning << '\n';
+  if (tile_) summary << tile_->describe() << '\n';
   if (resumed_) summary << "resumed: from " << *o_.resume_path << " at event " << first_event_ << '\n';
   if (stop_signal_ != 0) {
     summary << "stopped: by signal " << stop_signal_ << " after event " << end_event_ - 1 << " (" << keyframes_
@@ -312,12 +326,20 @@ int runMesh(const std::vector<std::string>& args) {
   MeshOptions o;
   declareOptions(app, o);
   if (!parseCommandLine(app, args)) return kExitOk;
-  if (o.output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
   if (o.format != "ply" && o.format != "obj") throw UsageError("mesh: --format must be ply or obj");
   const auto mode = mesher::parseMesherMode(o.mode_name);
   if (!mode) throw UsageError("mesh: --mode must be proposed, litvinov13 or romanoni15");
+  std::optional<MeshTile> tile;
+  if (o.tile) {
+    if (!o.output_dir.empty()) throw UsageError("mesh: --tile writes into the tile's folder beside the plan; drop -o");
+    if (o.resume_path) throw UsageError("mesh: --tile and --resume cannot be combined");
+    if (!o.traversability.exports.robot) throw UsageError("mesh: --tile needs --robot YAML (a tile's map is its layers)");
+    tile = MeshTile::fromOption(*o.tile);
+    o.output_dir = tile->outputDirectory().string();
+  }
+  if (o.output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
   // Read and validate everything before creating any output.
-  MeshJob job(o, *mode);
+  MeshJob job(o, *mode, std::move(tile));
   // From the first event to the last output, a signal finishes the work in progress.
   const StopSignalScope stop_scope;
   job.run();

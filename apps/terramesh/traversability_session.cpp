@@ -45,6 +45,13 @@ std::optional<StreamUp> upFromKeyframes(const datasets::SlamStream& stream) {
                   "estimated from " + std::to_string(rotations.size()) + " keyframe rotations"};
 }
 
+StreamUp mapUpFor(const traversability::RobotProfile& profile, const datasets::SlamStream& stream) {
+  if (profile.gravity_W) return StreamUp{-profile.gravity_W->normalized(), "the robot profile's gravity"};
+  std::optional<StreamUp> up = upFromKeyframes(stream);
+  if (!up) throw std::invalid_argument("mesh: --robot: the stream has no keyframes to estimate up from");
+  return *up;
+}
+
 traversability::ExportConfig exportConfigFrom(const TraversabilityExportOptions& options) {
   traversability::ExportConfig config;
   config.grid_resolution_m = options.grid_resolution_m;
@@ -101,18 +108,10 @@ std::optional<TraversabilitySession> TraversabilitySession::fromOptions(const Tr
   const traversability::RobotProfile profile = robotFrom(options.exports);
   traversability::MapFrame frame;
   frame.metres_per_unit = metres_per_unit;
-  std::string up_source;
-  if (profile.gravity_W) {
-    frame.up_W = -profile.gravity_W->normalized();
-    up_source = "the robot profile's gravity";
-  } else {
-    std::optional<StreamUp> up = upFromKeyframes(stream);
-    if (!up) throw std::invalid_argument("mesh: --robot: the stream has no keyframes to estimate up from");
-    frame.up_W = up->up_W;
-    up_source = up->source;
-  }
+  const StreamUp up = mapUpFor(profile, stream);
+  frame.up_W = up.up_W;
   frame.validate();
-  return TraversabilitySession(profile, frame, config, std::move(output), export_every, up_source);
+  return TraversabilitySession(profile, frame, config, std::move(output), export_every, up.source);
 }
 
 TraversabilitySession::TraversabilitySession(traversability::RobotProfile profile, traversability::MapFrame frame,
@@ -147,6 +146,7 @@ traversability::ExportReport TraversabilitySession::exportNow() {
   ++exports_;
   exported_revision_ = revision_;
   last_report_ = report;
+  if (export_hook_) export_hook_(snapshot, revision_);
   export_seconds_ += secondsSince(start);
   return report;
 }

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -47,6 +48,9 @@ struct StreamUp {
 };
 /// nullopt if the stream has no keyframe.
 std::optional<StreamUp> upFromKeyframes(const datasets::SlamStream& stream);
+/// The map's up for `profile` on `stream`: the profile's gravity, else upFromKeyframes.
+/// @throw std::invalid_argument if neither gives one.
+StreamUp mapUpFor(const traversability::RobotProfile& profile, const datasets::SlamStream& stream);
 
 /// Parses "X,Y,Z" (the --up option).
 /// @throw UsageError naming the option.
@@ -77,6 +81,10 @@ class TraversabilitySession {
   /// Where the robot stood on the driven-ground samples (TraversabilityMap::setDrivePoses); set
   /// before the first event.
   void setDrivePoses(traversability::DrivePoseLookup lookup) { map_->setDrivePoses(std::move(lookup)); }
+  /// Called after every export with the map just written and the mesher revision it holds (e.g.
+  /// a tile's owned part written elsewhere, mesh --tile).
+  using ExportHook = std::function<void(const traversability::LayeredMesh& map, std::uint64_t revision)>;
+  void setExportHook(ExportHook hook) { export_hook_ = std::move(hook); }
   /// Where "up" came from, for the summary.
   const std::string& upSource() const { return up_source_; }
   const traversability::RobotProfile& profile() const { return profile_; }
@@ -106,6 +114,7 @@ class TraversabilitySession {
   double update_seconds_ = 0;
   double export_seconds_ = 0;
   std::ostringstream csv_;
+  ExportHook export_hook_;
 };
 
 }  // namespace terramesh::cli

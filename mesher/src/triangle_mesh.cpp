@@ -2,6 +2,7 @@
 #include <map>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -108,25 +109,27 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh) {
   return topology;
 }
 
-TriangleMesh dropSteinerFaces(const TriangleMesh& mesh) {
-  if (mesh.is_steiner.size() != mesh.vertices.size()) {
-    throw std::invalid_argument("dropSteinerFaces: is_steiner must have one flag per vertex");
+TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<std::uint8_t>& keep) {
+  if (keep.size() != mesh.faces.size()) {
+    throw std::invalid_argument("selectFaces: " + std::to_string(keep.size()) + " flags for " +
+                                std::to_string(mesh.faces.size()) + " faces");
   }
+  const bool steiner = mesh.is_steiner.size() == mesh.vertices.size();
   const bool keyed = mesh.vertex_keys.size() == mesh.vertices.size();
   const bool driven = mesh.is_driven.size() == mesh.vertices.size();
   const bool observed = mesh.face_rays.size() == mesh.faces.size() && mesh.face_front_crossings.size() == mesh.faces.size();
   TriangleMesh result;
   std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    if (!keep[f]) continue;
     const auto& face = mesh.faces[f];
-    if (mesh.is_steiner[face[0]] || mesh.is_steiner[face[1]] || mesh.is_steiner[face[2]]) continue;
     std::array<std::uint32_t, 3> mapped{};
     for (std::size_t k = 0; k < 3; ++k) {
       std::uint32_t& index = remap[face[k]];
       if (index == UINT32_MAX) {
         index = static_cast<std::uint32_t>(result.vertices.size());
         result.vertices.push_back(mesh.vertices[face[k]]);
-        result.is_steiner.push_back(0);
+        if (steiner) result.is_steiner.push_back(mesh.is_steiner[face[k]]);
         if (keyed) result.vertex_keys.push_back(mesh.vertex_keys[face[k]]);
         if (driven) result.is_driven.push_back(mesh.is_driven[face[k]]);
       }
@@ -139,6 +142,18 @@ TriangleMesh dropSteinerFaces(const TriangleMesh& mesh) {
     }
   }
   return result;
+}
+
+TriangleMesh dropSteinerFaces(const TriangleMesh& mesh) {
+  if (mesh.is_steiner.size() != mesh.vertices.size()) {
+    throw std::invalid_argument("dropSteinerFaces: is_steiner must have one flag per vertex");
+  }
+  std::vector<std::uint8_t> keep(mesh.faces.size());
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const auto& face = mesh.faces[f];
+    keep[f] = !(mesh.is_steiner[face[0]] || mesh.is_steiner[face[1]] || mesh.is_steiner[face[2]]);
+  }
+  return selectFaces(mesh, keep);
 }
 
 }  // namespace terramesh::mesher

@@ -78,5 +78,26 @@ TEST(DropSteinerFaces, RejectsMissingFlags) {
   EXPECT_THROW(dropSteinerFaces(mesh), std::invalid_argument);
 }
 
+TEST(SelectFaces, KeepsFlaggedFacesWithTheirArraysAndRenumbersVertices) {
+  TriangleMesh mesh = tetrahedron();
+  mesh.face_rays = {10, 11, 12, 13};
+  mesh.face_front_crossings = {1, 2, 3, 4};
+  const TriangleMesh selected = selectFaces(mesh, {0, 1, 0, 1});
+  ASSERT_EQ(selected.faces.size(), 2u);
+  EXPECT_EQ(selected.face_rays, (std::vector<std::uint32_t>{11, 13}));
+  EXPECT_EQ(selected.face_front_crossings, (std::vector<std::uint32_t>{2, 4}));
+  // Faces {0, 1, 3} and {0, 3, 2} use all four vertices, numbered by first use: 0, 1, 3, 2.
+  ASSERT_EQ(selected.vertices.size(), 4u);
+  EXPECT_EQ(selected.vertices[2], mesh.vertices[3]);
+  EXPECT_EQ(selected.is_steiner, (std::vector<std::uint8_t>{0, 0, 1, 0}));
+  for (std::size_t f = 0; f < selected.faces.size(); ++f) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(selected.vertices[selected.faces[f][k]], mesh.vertices[mesh.faces[2 * f + 1][k]]);
+    }
+  }
+  EXPECT_TRUE(selectFaces(mesh, {0, 0, 0, 0}).vertices.empty());
+  EXPECT_THROW(selectFaces(mesh, {1, 1}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace terramesh::mesher

@@ -64,4 +64,10 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh);
 /// @throw std::invalid_argument if `is_steiner` does not match the vertex count.
 TriangleMesh dropSteinerFaces(const TriangleMesh& mesh);
 
+/// The faces whose flag in `keep` is set, in order, with unreferenced vertices removed (vertices
+/// numbered by first use); every per-vertex and per-face array of one entry per element is carried
+/// along. O(V + F).
+/// @throw std::invalid_argument if `keep` does not have one flag per face.
+TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<std::uint8_t>& keep);
+
 }  // namespace terramesh::mesher

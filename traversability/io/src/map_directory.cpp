@@ -125,8 +125,13 @@ ExportReport writeMapDirectory(const std::filesystem::path& dir, const LayeredMe
   std::filesystem::create_directories(dir);
   const MapPlane plane = MapPlane::fromUp(map.up_W, map.metres_per_unit);
   ExportReport report;
-  internal::writeLayeredPly(dir / kPlyName, map);
-  report.files.push_back(kPlyName);
+  if (config.write_layered_ply) {
+    internal::writeLayeredPly(dir / kPlyName, map);
+    report.files.push_back(kPlyName);
+  } else {
+    std::error_code ignored;
+    std::filesystem::remove(dir / kPlyName, ignored);
+  }
   if (config.write_mesh_map_h5) {
     internal::writeMeshMapH5(dir / kMeshMapName, map, profile);
     report.files.push_back(kMeshMapName);

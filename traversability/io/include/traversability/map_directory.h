@@ -18,6 +18,9 @@ struct ExportConfig {
   bool write_geotiff = true;
   /// Also write `traversability.h5`, the HDF5 mesh map that mesh_navigation's mesh_map reads.
   bool write_mesh_map_h5 = true;
+  /// Also write `traversability.ply` (off for a map directory of 2D maps only, such as a tiled
+  /// map's overview; readMapDirectory needs it).
+  bool write_layered_ply = true;
   /// How faces are split into walkable levels (one 2D map per level).
   LevelConfig levels;
   /// @throw std::invalid_argument listing every out-of-range field.
@@ -36,7 +39,7 @@ struct ExportReport {
 
 /// Writes every export of a traversability map into `dir` (created if missing), each file
 /// atomically (temp file + rename), so a map server may reload any of them at any time:
-/// - `traversability.ply`: the mesh with per-face layers and per-vertex cost;
+/// - `traversability.ply`: the mesh with per-face layers and per-vertex cost (if write_layered_ply);
 /// - `level_N.pgm` + `level_N.yaml`: Nav2 map_server trinary maps, one per walkable level
 ///   (levels numbered by increasing height, see segmentLevels);
 ///   `level_N_cost.png` + `level_N_cost.yaml`: the same in `scale` mode, grey levels = cost,
