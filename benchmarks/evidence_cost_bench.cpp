@@ -80,9 +80,9 @@ Times run(const bench::BenchStream& s, const Setup& setup, bool with_evidence) {
   if (s.stream.recommended_min_views > 0) config.min_views = s.stream.recommended_min_views;
   std::optional<traversability::TrajectoryEvidence> evidence;
   if (with_evidence) {
-    config.driven_ground_up_W = s.up_W;
     evidence.emplace(setup.profile, s.up_W, s.stream.metres_per_unit, setup.decision.sensor_height_m, setup.forward_S,
                      setup.evidence_config);
+    evidence->configureMesher(config);
   }
   mesher::Mesher mesher(config);
   traversability::TraversabilityMap map(setup.profile, setup.frame);

@@ -89,7 +89,7 @@ done
 
 # The robot's swept footprint on each synthetic scene: the map under the camera path, within the
 # footprint's half-width (disc: radius) of it, and how far its free part lies from the truth. The
-# camera height is the run's own estimate (summary.txt), 1.65 m where the run made none.
+# camera height is the one the run's mesh.ply records (its estimate from the data).
 echo
 echo "## Synthetic scenes: the swept footprint (map under the path, within the robot's half-width)"
 echo
@@ -105,9 +105,8 @@ for seed in "${seeds[@]}"; do
     for robot_file in "${robots[@]}"; do
       robot=$(basename "$robot_file" .yaml)
       map="$out/${scene}_$robot"
-      height=$(sed -n 's/.*sensor height \([0-9.]*\).*/\1/p' "$map/summary.txt" | head -1)
       "$terramesh" traverse-eval "$map" --gt-mesh "$out/$scene/ground_truth.ply" \
-        --road-under-path "$out/$scene/stream.tmstream" --camera-height-m "${height:-1.65}" \
+        --road-under-path "$out/$scene/stream.tmstream" \
         --lateral-m "$(half_width "$robot_file")" --report "$out/${scene}_${robot}_swept.txt" --quiet
       awk -v scene="$scene" -v robot="$robot" '{ v[$1] = $2 } END {
           printf "| %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot, v["road_free_fraction"],

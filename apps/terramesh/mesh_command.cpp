@@ -189,8 +189,8 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
                      "made with trajectory evidence \"" + resumed_->state.trajectory_evidence + "\", this run has \"" +
                          evidence_.settings() + "\"; resume with the robot and evidence options of the interrupted run");
   }
-  // Nothing under the driven ground is free space (a resumed mesher keeps its own setting).
-  if (evidence_.enabled() && !resumed_) config_.driven_ground_up_W = traversability_->frame().up_W;
+  // No ray from above frees anything under the driven ground (a resumed mesher keeps its own setting).
+  if (!resumed_) evidence_.configureMesher(config_);
   std::filesystem::create_directories(output_);
   if (o.snapshot_every > 0) std::filesystem::create_directories(output_ / "snapshots");
 

@@ -20,6 +20,11 @@ void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& opti
                  "metres (0: only under the keyframes)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
+  app.add_option("--underside-depth-m", options.underside_depth_m,
+                 "with --robot: the driven ground is solid at least this deep (a parking deck's slab): cameras on "
+                 "a level beneath it carve their level up to that depth, not the road above, metres (0: not assumed)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
 }
 
 TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenceOptions& options,
@@ -33,6 +38,7 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   if (!session || options.off) return run;
   traversability::TrajectoryEvidenceConfig config;
   config.station_spacing_m = options.station_spacing_m;
+  config.underside_depth_m = options.underside_depth_m;
   const traversability::RobotProfile& profile = session->profile();
   const traversability::MapFrame& frame = session->frame();
   const std::vector<Eigen::Vector3d> sensors_W = datasets::latestKeyframeCentres(stream);
@@ -49,12 +55,14 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   run.sensor_height_m_ = decision.sensor_height_m;
   run.sensor_height_source_ = decision.source;
   run.station_spacing_m_ = config.station_spacing_m;
+  run.underside_depth_m_ = config.underside_depth_m;
   std::ostringstream patches;
   patches << "; patches of " << run.evidence_->samplesPerKeyframe() << " driven-ground samples under each keyframe";
   if (config.station_spacing_m > 0) {
     patches << " and at stations at most " << std::max(config.station_spacing_m, run.evidence_->patchLengthM())
             << " m apart between keyframes";
   }
+  if (config.underside_depth_m > 0) patches << ", each with its underside " << config.underside_depth_m << " m below";
   run.summary_ += patches.str();
   return run;
 }
@@ -92,7 +100,8 @@ std::string TrajectoryEvidenceRun::settings() const {
   std::ostringstream text;
   text.precision(17);
   text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe()
-       << " station_spacing_m=" << station_spacing_m_ << " body_views=1 later_obstacles=1";
+       << " station_spacing_m=" << station_spacing_m_ << " underside_depth_m=" << underside_depth_m_
+       << " body_views=1 later_obstacles=1";
   return text.str();
 }
 

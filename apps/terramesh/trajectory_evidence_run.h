@@ -22,6 +22,8 @@ struct TrajectoryEvidenceOptions {
   std::optional<double> sensor_height_m;
   /// TrajectoryEvidenceConfig::station_spacing_m (0: no stations between keyframes).
   double station_spacing_m = traversability::TrajectoryEvidenceConfig{}.station_spacing_m;
+  /// TrajectoryEvidenceConfig::underside_depth_m (0: no underside under the driven ground).
+  double underside_depth_m = traversability::TrajectoryEvidenceConfig{}.underside_depth_m;
 };
 /// Adds the options to `app`, filling `options`.
 void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& options);
@@ -42,6 +44,10 @@ class TrajectoryEvidenceRun {
   void replay(const datasets::SlamStream& stream, std::size_t events);
 
   bool enabled() const { return evidence_.has_value(); }
+  /// The mesher's ground rule for this evidence (TrajectoryEvidence::configureMesher); none when off.
+  void configureMesher(mesher::MesherConfig& config) const {
+    if (evidence_) evidence_->configureMesher(config);
+  }
   /// Where the robot stood on each driven-ground sample (TrajectoryEvidence::baseOf); empty when
   /// off. It reads this run, which must outlive it.
   traversability::DrivePoseLookup drivePoses() const;
@@ -68,6 +74,7 @@ class TrajectoryEvidenceRun {
   double sensor_height_m_ = 0;
   std::string sensor_height_source_;
   double station_spacing_m_ = 0;
+  double underside_depth_m_ = 0;
   std::string summary_;
   std::optional<std::string> warning_;
 };

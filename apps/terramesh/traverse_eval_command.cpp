@@ -364,7 +364,8 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
          << "lateral_m " << fixed(config.lateral_m, 3) << '\n'
          << "height_tolerance_m " << fixed(config.height_tolerance_m, 3) << '\n';
   reportAreas(report, "road", road.areas);
-  report << "road_free_fraction " << fixed(road.free_fraction) << '\n'
+  report << "road_facing_down_m2 " << fixed(road.facing_down_m2) << '\n'
+         << "road_free_fraction " << fixed(road.free_fraction) << '\n'
          << "road_lethal_fraction " << fixed(road.lethal_fraction) << '\n'
          << "road_unknown_fraction " << fixed(road.unknown_fraction) << '\n'
          << "road_uncertain_fraction " << fixed(road.uncertain_fraction) << '\n';

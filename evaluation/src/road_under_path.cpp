@@ -63,6 +63,16 @@ PathFoot nearestOnPath(const std::vector<Eigen::Vector3d>& path, const Eigen::Ve
   return foot;
 }
 
+/// Whether face f's normal (out of the matter) lies within 60 degrees of down: a ceiling or a
+/// deck's underside, not a road; walls and overhangs are not.
+bool facesDown(const mesher::TriangleMesh& mesh, std::size_t f, const Eigen::Vector3d& up) {
+  const auto& face = mesh.faces[f];
+  const Eigen::Vector3d normal =
+      (mesh.vertices[face[1]] - mesh.vertices[face[0]]).cross(mesh.vertices[face[2]] - mesh.vertices[face[0]]);
+  const double norm = normal.norm();
+  return norm > 0 && up.dot(normal) / norm < -0.5;
+}
+
 /// The inputs common to both checks, validated, in metres.
 struct MetricPath {
   Eigen::Vector3d up;
@@ -136,6 +146,10 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
     const double below = up.dot(best_point - centroid);
     if (std::abs(below - config.camera_height_m) > config.height_tolerance_m) continue;
     const double area = faceArea(pieces.mesh, p);
+    if (facesDown(metric, pieces.parent_face[p], up)) {
+      out.facing_down_m2 += area;
+      continue;
+    }
     addReasons(map.layers[pieces.parent_face[p]].reasons, area, reason_m2);
     switch (map.layers[pieces.parent_face[p]].face_class) {
       case traversability::FaceClass::kFree:

@@ -34,6 +34,7 @@ void writeConfig(const MesherConfig& c, ByteWriter& out) {
   out.f64(c.free_threshold);
   out.f64(c.move_threshold_m);
   for (int i = 0; i < 3; ++i) out.f64(c.driven_ground_up_W[i]);
+  out.f64(c.driven_underside_depth_m);
   out.u8(static_cast<std::uint8_t>(c.point_policy));
   for (bool flag : {c.incremental_steiner_grid, c.local_enclosing_set, c.boundary_hash, c.next_cell_cache,
                     c.ray_scheduler, c.edge_growing_pass}) {
@@ -71,6 +72,7 @@ MesherConfig readConfig(ByteReader& in) {
   c.free_threshold = in.f64();
   c.move_threshold_m = in.f64();
   for (int i = 0; i < 3; ++i) c.driven_ground_up_W[i] = in.f64();
+  c.driven_underside_depth_m = in.f64();
   const std::uint8_t policy = in.u8();
   if (policy > static_cast<std::uint8_t>(PointPolicy::kFixedPosition)) in.fail("a point policy 0..1");
   c.point_policy = static_cast<PointPolicy>(policy);

@@ -173,7 +173,9 @@ void CheckpointAccess::readRegistry(PointRegistry& registry, ByteReader& in, con
     point.id = PointId{in.u64()};
     point.alive = in.flag();
     const std::uint8_t kind = in.u8();
-    if (kind > static_cast<std::uint8_t>(PointKind::kDrivenGround)) in.fail("a point kind (0 SLAM, 1 driven ground)");
+    if (kind > static_cast<std::uint8_t>(PointKind::kDrivenUnderside)) {
+      in.fail("a point kind (0 SLAM, 1 driven ground, 2 driven underside)");
+    }
     point.kind = static_cast<PointKind>(kind);
     point.latest_W = readPosition(in);
     point.inserted_W = readPosition(in);

@@ -178,7 +178,9 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     }
     std::size_t wanted = 0;
     bool degenerate = false;
-    for (std::uint32_t keyframe : point.keyframes) wanted += rayWanted(keyframe, point.inserted_W, degenerate);
+    if (tracesRays(point.kind)) {
+      for (std::uint32_t keyframe : point.keyframes) wanted += rayWanted(keyframe, point.inserted_W, degenerate);
+    }
     if (wanted != point.rays.size()) {
       fail("point " + std::to_string(point.id.value) + ": has " + std::to_string(point.rays.size()) +
            " rays, expected " + std::to_string(wanted));

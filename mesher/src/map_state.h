@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 
@@ -48,37 +49,86 @@ struct MapState {
   std::uint32_t nextVertexMark() { return epochs.nextVertexMark(); }
 
   /// Whether `cell` is free space: its weight is above the threshold, or, over driven ground, a
-  /// ray to a driven-ground sample crosses it (the robot's body passed there); and it does not lie
-  /// under driven ground (MesherConfig::driven_ground_up_W). A function of the cell's rays and
-  /// vertices only.
+  /// ray to a driven-ground sample crosses it (the robot's body passed there). Under driven ground
+  /// (MesherConfig::driven_ground_up_W) only rays from cameras under that ground count: a ray from
+  /// above would have passed through ground the robot drove on, while one from below (a camera on
+  /// the level beneath a parking deck, or lower on a ramp) did not. A function of the cell's rays,
+  /// their keyframes and the cell's vertices only.
   bool isFree(const CellHandle& cell) const {
     const int side = drivenGroundSide(cell);
-    if (side < 0) return false;
+    if (side < 0) return weights.isFree(cell) && freedFromBelow(cell);
     return weights.isFree(cell) || (side > 0 && cell->info().driven_crossings > 0);
   }
 
-  /// Where `cell` lies relative to the driven-ground vertices among its corners, judged by its
-  /// centroid along MesherConfig::driven_ground_up_W: -1 below one of them, +1 above all of them,
-  /// 0 with none (or when up is not given, or the cell is infinite).
+  /// Where `cell` lies relative to the driven ground its corners stand for, judged by its centroid
+  /// along MesherConfig::driven_ground_up_W: -1 below a driven-ground corner or with an underside
+  /// corner (which lies inside the ground, MesherConfig::driven_underside_depth_m under the driven
+  /// ground it stands for), +1 above all of them, 0 with none (or when up is not given, or the
+  /// cell is infinite).
   int drivenGroundSide(const CellHandle& cell) const {
+    std::array<Eigen::Vector3d, 4> over;
+    return drivenGroundSide(cell, over, nullptr);
+  }
+
+  /// As drivenGroundSide(cell); also gives the driven ground the centroid lies below (the points
+  /// its corners stand for, over[0, *count_over)) when `count_over` is not null.
+  int drivenGroundSide(const CellHandle& cell, std::array<Eigen::Vector3d, 4>& over, int* count_over) const {
+    if (count_over) *count_over = 0;
     if (config.driven_ground_up_W.isZero(0) || tri.is_infinite(cell)) return 0;
     // Most cells have no driven corner: find them before computing anything (a hot path).
     int driven[4];
     int count = 0;
     for (int i = 0; i < 4; ++i) {
       const std::uint32_t point = cell->vertex(i)->info().point;
-      if (point != kNone && registry.point(point).kind == PointKind::kDrivenGround) driven[count++] = i;
+      if (point != kNone && isDrivenKind(registry.point(point).kind)) driven[count++] = i;
     }
     if (count == 0) return 0;
+    const Eigen::Vector3d& up = config.driven_ground_up_W;
     const auto position = [&](int i) {
       const Point& p = cell->vertex(i)->point();
       return Eigen::Vector3d(p.x(), p.y(), p.z());
     };
     const Eigen::Vector3d centroid = 0.25 * (position(0) + position(1) + position(2) + position(3));
+    int side = 1;
     for (int k = 0; k < count; ++k) {
-      if ((centroid - position(driven[k])).dot(config.driven_ground_up_W) < 0) return -1;
+      Eigen::Vector3d corner = position(driven[k]);
+      // An underside lies inside the ground: every cell at it is under the driven ground above it.
+      const bool underside = registry.point(cell->vertex(driven[k])->info().point).kind == PointKind::kDrivenUnderside;
+      if (underside) corner += config.drivenUndersideDepthUnits() * up;
+      if ((centroid - corner).dot(up) >= 0) continue;
+      side = -1;
+      if (!count_over) return side;
+      over[static_cast<std::size_t>((*count_over)++)] = corner;
     }
-    return 1;
+    return side;
+  }
+
+  /// Whether rays from beneath all the driven ground the centroid of `cell` lies under weigh
+  /// enough, on their own, to make a crossed cell free (crossings x weight_crossed over the
+  /// threshold). A ray is from beneath when its camera lies below that ground and its point lies
+  /// more than the underside depth below it: a camera lower on a ramp looking at the deck ahead
+  /// sees points on the deck, through the thin cells under its samples.
+  bool freedFromBelow(const CellHandle& cell) const {
+    std::array<Eigen::Vector3d, 4> over;
+    int count_over = 0;
+    drivenGroundSide(cell, over, &count_over);
+    const Eigen::Vector3d& up = config.driven_ground_up_W;
+    const double depth = config.drivenUndersideDepthUnits();
+    double weight = 0;
+    for (const Crossing& crossing : rays.crossing(cell)) {
+      const Ray& ray = rays[crossing.ray];
+      const Eigen::Vector3d& camera = registry.keyframe(ray.keyframe).centre_W;
+      const Eigen::Vector3d& point = registry.point(ray.point).inserted_W;
+      bool below = true;
+      for (int k = 0; k < count_over && below; ++k) {
+        const Eigen::Vector3d& ground = over[static_cast<std::size_t>(k)];
+        below = (camera - ground).dot(up) < 0 && (point - ground).dot(up) < -depth;
+      }
+      if (!below) continue;
+      weight += config.weight_crossed;
+      if (weight > config.free_threshold) return true;
+    }
+    return false;
   }
 
   /// Gives a new unique stamp to a freshly created cell.

@@ -130,6 +130,8 @@ std::vector<std::string> MesherConfig::problems() const {
   require(driven_ground_up_W.allFinite() &&
               (driven_ground_up_W.isZero(0) || std::abs(driven_ground_up_W.norm() - 1.0) <= 1e-6),
           "driven_ground_up_W must be zero or a unit vector");
+  require(finite(driven_underside_depth_m) && driven_underside_depth_m >= 0 && driven_underside_depth_m <= 10,
+          "driven_underside_depth_m must be in [0, 10]");
   if (!incremental_steiner_grid) {
     require(fixed_grid_bounds_W.has_value(),
             "fixed_grid_bounds_W is required when incremental_steiner_grid is off");

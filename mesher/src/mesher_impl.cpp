@@ -152,8 +152,8 @@ void Mesher::Impl::classifyPoint(std::uint32_t index, UpdatePlan& plan, UpdateSt
   internal::PointRecord& point = state_.registry.point(index);
   plan.classified.push_back(index);
   if (!point.inserted()) {
-    // A driven-ground sample is measured by the drive itself: one view suffices.
-    const std::size_t min_views = point.kind == PointKind::kDrivenGround
+    // A driven-ground sample (or its underside) is measured by the drive itself: one view suffices.
+    const std::size_t min_views = isDrivenKind(point.kind)
                                       ? 1
                                       : static_cast<std::size_t>(state_.config.min_views);
     if (point.keyframes.empty()) {
@@ -206,6 +206,7 @@ void Mesher::Impl::reconcileRays(std::uint32_t index, UpdatePlan& plan, UpdateSt
     }
     ++slot;
   }
+  if (!tracesRays(point.kind)) return;
   for (std::uint32_t keyframe : point.keyframes) {
     const bool has_ray = std::any_of(point.rays.begin(), point.rays.end(), [&](RayId id) {
       return state_.rays[id].keyframe == keyframe;

@@ -1,6 +1,6 @@
 // Driven-ground samples (PointKind::kDrivenGround) in the mesher: one view inserts them, a re-sent
 // keyframe moves them, removing their keyframe removes them, the surface counts them per face,
-// and checkpoints and PLY files keep the kind.
+// and checkpoints and PLY files keep the kind; their undersides (PointKind::kDrivenUnderside) trace no ray.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -168,6 +168,55 @@ TEST(DrivenGroundTest, CheckpointKeepsTheKind) {
   for (const SurfaceFace& face : resumed.surfaceFaces()) counts_b.push_back(face.driven_vertices);
   EXPECT_EQ(counts_a, counts_b);
   EXPECT_GT(std::count_if(counts_a.begin(), counts_a.end(), [](std::uint8_t c) { return c > 0; }), 0);
+}
+
+/// `keyframe` with its samples and their undersides, `depth` below each (ids: index + 32).
+Keyframe withUndersides(Keyframe keyframe, double depth) {
+  const std::vector<PointObservation> samples = samplesUnder(keyframe);
+  for (PointObservation sample : samples) {
+    keyframe.observations.push_back(sample);
+    sample.point.value += 32;
+    sample.position_W.z() -= depth;
+    sample.kind = PointKind::kDrivenUnderside;
+    keyframe.observations.push_back(sample);
+  }
+  return keyframe;
+}
+
+TEST(DrivenGroundTest, UndersidesGoInWithOneViewTraceNoRayAndComeBackFromACheckpoint) {
+  const std::vector<Keyframe> keyframes = planeKeyframes();
+  Mesher plain(planeConfig()), with(planeConfig());
+  for (std::size_t k = 0; k < 16; ++k) {
+    plain.integrateKeyframe(withSamples(keyframes[k]));
+    with.integrateKeyframe(withUndersides(keyframes[k], 0.1));
+  }
+  expectHealthy(with, "with undersides");  // checkInvariants: every point has the rays it calls for
+  // One vertex per underside, and not one ray more: they carve nothing.
+  EXPECT_EQ(with.size().inserted_points, plain.size().inserted_points + 16 * 5);
+  EXPECT_EQ(with.size().rays, plain.size().rays);
+  // Undersides are not driven ground: faces do not count them.
+  for (const SurfaceFace& face : with.surfaceFaces()) {
+    int expected = 0;
+    for (const VertexKey& key : face.vertices) expected += !key.steiner && (key.value & kDrivenBit) != 0 && (key.value & 63) < 32;
+    EXPECT_EQ(face.driven_vertices, expected);
+  }
+
+  std::stringstream bytes;
+  saveCheckpoint(with, bytes, "");
+  LoadedCheckpoint loaded = loadCheckpoint(bytes, "memory");
+  for (std::size_t k = 16; k < keyframes.size(); ++k) {
+    with.integrateKeyframe(withUndersides(keyframes[k], 0.1));
+    loaded.mesher.integrateKeyframe(withUndersides(keyframes[k], 0.1));
+  }
+  expectHealthy(loaded.mesher, "resumed");
+  EXPECT_EQ(loaded.mesher.size().rays, with.size().rays);
+  EXPECT_EQ(loaded.mesher.extractMesh().vertices, with.extractMesh().vertices);
+  EXPECT_EQ(loaded.mesher.extractMesh().faces, with.extractMesh().faces);
+  // Removing their keyframe removes them with the samples.
+  const std::size_t points_before = with.size().points;
+  with.removeKeyframe(keyframes[12].id);
+  expectHealthy(with, "after the removal");
+  EXPECT_LE(with.size().points + 10, points_before);
 }
 
 std::string plyHeader(const std::filesystem::path& path) {

@@ -51,7 +51,7 @@ mesher::PointObservation observation(std::uint64_t id, const Eigen::Vector3d& p)
 
 std::size_t drivenCount(const mesher::Keyframe& keyframe) {
   std::size_t n = 0;
-  for (const auto& o : keyframe.observations) n += isDrivenGroundId(o.point) ? 1 : 0;
+  for (const auto& o : keyframe.observations) n += o.kind == mesher::PointKind::kDrivenGround ? 1 : 0;
   return n;
 }
 
@@ -66,7 +66,7 @@ TEST(DrivenSamplesTest, AKeyframeThatStartsADriveHasStationsBackToItsFootprintsR
   const mesher::Keyframe first = evidence.augment(cameraAt(1, {10, 0, 1.65}));
   std::vector<Eigen::Vector3d> samples;
   for (const auto& o : first.observations) {
-    if (isDrivenGroundId(o.point)) samples.push_back(o.position_W);
+    if (o.kind == mesher::PointKind::kDrivenGround) samples.push_back(o.position_W);
   }
   ASSERT_EQ(samples.size(), 5 * evidence.samplesPerKeyframe());  // its own and 4 stations
   std::set<long> rows;
@@ -177,10 +177,12 @@ TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDriv
     views.push_back(id.value & ((std::uint64_t{1} << kBodyViewSlotShift) - 1));
   }
   std::sort(views.begin(), views.end());
-  EXPECT_EQ(views, (std::vector<std::uint64_t>{2, 2, 2, 3, 3, 3, 3, 3, 3, 4, 4, 4}));
+  // (and the underside views of 3 and 2, which they would have with a level beneath)
+  EXPECT_EQ(views, (std::vector<std::uint64_t>{2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 3, 4, 4, 4}));
   for (std::uint64_t k : {2, 3, 4}) EXPECT_TRUE(evidence.bodyViewsOf(mesher::KeyframeId{k}).empty()) << k;
   EXPECT_EQ(evidence.bodyViewsOf(mesher::KeyframeId{5}).size(), kBodyViewSlots);
-  EXPECT_EQ(evidence.sampleIdsOf(mesher::KeyframeId{3}).size(), 4 * patch) << "its patch and 3 stations, to remove";
+  EXPECT_EQ(evidence.sampleIdsOf(mesher::KeyframeId{3}).size(), 2 * 4 * patch)
+      << "its patch and 3 stations, and their undersides, to remove";
   // Re-sent, keyframe 3 carries no samples (nor a sweep); keyframe 4 its own but no sweep to 3's.
   EXPECT_EQ(drivenCount(evidence.augment(cameraAt(3, {4, 0, 1}))), 0u);
   EXPECT_EQ(drivenCount(evidence.augment(cameraAt(4, {6, 0, 1}))), 4 * patch);
@@ -216,13 +218,13 @@ TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDriv
 mesher::TriangleMesh meshBoxScene(bool later_obstacles_win, std::size_t& overridden) {
   mesher::MesherConfig config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
   config.steiner_step_m = 4.0;
-  config.driven_ground_up_W = Eigen::Vector3d::UnitZ();
-  mesher::Mesher mesher(config);
   TrajectoryEvidenceConfig evidence_config;
   evidence_config.later_obstacles_win = later_obstacles_win;
   // The robot drives along +x; its camera looks along -y: forward is -x in the camera frame.
   TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.65, -Eigen::Vector3d::UnitX(),
                               evidence_config);
+  evidence.configureMesher(config);
+  mesher::Mesher mesher(config);
   std::uint64_t next_point = 1;
   std::vector<std::pair<std::uint64_t, Eigen::Vector3d>> ground_right, ground_front, box;
   for (double x = -4; x <= 20; x += 0.5) {

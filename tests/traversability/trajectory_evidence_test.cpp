@@ -174,17 +174,21 @@ TEST(DrivenSamplesTest, KeyframesObserveThePreviousPatchAndRemovalReturnsTheSamp
   }
   const auto first_samples = evidence.samplesOf(cameraAt(1, {0, 0, 1}));
   for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(second.observations[4 * n + i].point, first_samples[i].point);
+  // On one level nothing is beneath the drive: no underside views.
+  EXPECT_FALSE(evidence.undersideViewOf(mesher::KeyframeId{2}).has_value());
   // Too far apart: no sweep and no stations.
   EXPECT_EQ(evidence.augment(cameraAt(3, {20, 0, 1})).observations.size(), n);
+  // The samples' ids to remove, with the ids their undersides would have.
   const std::vector<mesher::PointId> removed = evidence.remove(mesher::KeyframeId{1});
-  ASSERT_EQ(removed.size(), n);
+  ASSERT_EQ(removed.size(), 2 * n);
+  EXPECT_EQ(removed[n].value, removed[0].value + kDrivenUndersideIndex);
   EXPECT_EQ(removed.front(), first_samples.front().point);
   // Keyframe 2 re-sent: its predecessor is gone, so no sweep, but it keeps its 3 stations (placed
   // towards the pose it last saw): the same sample ids, so none is left behind in the mesher.
   const mesher::Keyframe resent = evidence.augment(cameraAt(2, {2, 0.1, 1}));
   ASSERT_EQ(resent.observations.size(), 4 * n);
   for (std::size_t i = 0; i < 4 * n; ++i) EXPECT_EQ(resent.observations[i].point, second.observations[i].point);
-  EXPECT_EQ(evidence.remove(mesher::KeyframeId{2}).size(), 4 * n);
+  EXPECT_EQ(evidence.remove(mesher::KeyframeId{2}).size(), 2 * 4 * n);
 }
 
 TEST(DrivenSamplesTest, EachSampleKnowsTheBaseItWasPutDownAt) {
@@ -455,12 +459,12 @@ mesher::TriangleMesh meshStreet(bool with_evidence, const TrajectoryEvidenceConf
                                 bool ground_rule = true, bool body_views = true) {
   const Street& s = street();
   mesher::MesherConfig mesher_config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
-  if (with_evidence && ground_rule) mesher_config.driven_ground_up_W = s.scene.up_W.normalized();
-  mesher::Mesher mesher(mesher_config);
   RobotProfile car = loadRobotProfile(kRobots / "car.yaml");
   TrajectoryEvidenceConfig evidence_config = config;
   evidence_config.body_views = body_views;
-  TrajectoryEvidence evidence(car, s.scene.up_W, 1.0, 1.65, Eigen::Vector3d::UnitZ(), evidence_config);
+  TrajectoryEvidence evidence(car, s.scene.up_W.normalized(), 1.0, 1.65, Eigen::Vector3d::UnitZ(), evidence_config);
+  if (with_evidence && ground_rule) evidence.configureMesher(mesher_config);
+  mesher::Mesher mesher(mesher_config);
   std::size_t keyframes = 0;
   for (const datasets::StreamEvent& event : s.slam.stream.events) {
     const auto* keyframe = std::get_if<mesher::Keyframe>(&event);

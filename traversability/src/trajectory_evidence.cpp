@@ -53,6 +53,9 @@ void TrajectoryEvidenceConfig::validate() const {
   require(max_sweep_sagitta_m >= 0 && max_sweep_sagitta_m <= 100, "max_sweep_sagitta_m", max_sweep_sagitta_m,
           "[0, 100]");
   require(station_spacing_m >= 0 && station_spacing_m <= 100, "station_spacing_m", station_spacing_m, "[0, 100]");
+  require(underside_depth_m >= 0 && underside_depth_m <= 10, "underside_depth_m", underside_depth_m, "[0, 10]");
+  require(beneath_radius_m > 0 && beneath_radius_m <= 1000, "beneath_radius_m", beneath_radius_m, "(0, 1000]");
+  require(beneath_margin_m >= 0 && beneath_margin_m <= 100, "beneath_margin_m", beneath_margin_m, "[0, 100]");
   require(layer_gap_m > 0 && layer_gap_m <= 100, "layer_gap_m", layer_gap_m, "(0, 100]");
   require(estimate_radius_m > 0 && estimate_radius_m <= 100, "estimate_radius_m", estimate_radius_m, "(0, 100]");
   require(min_depth_below_m >= 0 && min_depth_below_m <= 100, "min_depth_below_m", min_depth_below_m, "[0, 100]");
@@ -77,9 +80,11 @@ void TrajectoryEvidenceConfig::validate() const {
 }
 
 struct TrajectoryEvidence::BodyIndex {
-  BodyIndex(const Eigen::Vector3d& up_W, double cell)
-      : plane(geometry::planFrame(up_W)), cells(cell), point_cells(cell) {}
+  BodyIndex(const Eigen::Vector3d& up_W, double cell, double beneath_cell)
+      : plane(geometry::planFrame(up_W)), cells(cell), point_cells(cell), bases(beneath_cell) {}
   geometry::PlanFrame plane;
+  /// Keyframe ids under the horizontal cell of their base (cell: beneath_radius_m).
+  internal::HorizontalGrid<std::uint64_t> bases;
   /// Keyframe ids under the horizontal cell of each of their station bases (cell: the footprint's
   /// circumradius, so a body holding a point has its base in the 3 x 3 cells around it).
   internal::HorizontalGrid<std::uint64_t> cells;
@@ -128,7 +133,8 @@ TrajectoryEvidence::TrajectoryEvidence(const RobotProfile& profile, const Eigen:
   body_low_m_ = profile.max_step_m;
   body_high_m_ = profile.min_clearance_m;
   absorb_band_m_ = std::min(config_.ground_absorb_band_m, profile.max_step_m);
-  bodies_ = std::make_unique<BodyIndex>(up_W_, profile.footprintCircumradiusM() / metres_per_unit_);
+  bodies_ = std::make_unique<BodyIndex>(up_W_, profile.footprintCircumradiusM() / metres_per_unit_,
+                                        config_.beneath_radius_m / metres_per_unit_);
   if (layout_B_m_.size() > kMaxDrivenSamplesPerKeyframe) {
     throw std::invalid_argument("trajectory evidence: " + std::to_string(layout_B_m_.size()) +
                                 " samples per keyframe (at most " + std::to_string(kMaxDrivenSamplesPerKeyframe) +
@@ -172,6 +178,57 @@ std::vector<mesher::PointObservation> TrajectoryEvidence::samplesAt(mesher::Keyf
     }
   }
   return samples;
+}
+
+void TrajectoryEvidence::findLevelsBeneath(mesher::KeyframeId id, const Pose& pose) {
+  newly_undersided_.clear();
+  if (!(config_.underside_depth_m > 0)) return;
+  const Eigen::Vector3d base = baseAt(pose).translation();
+  const Eigen::Vector2d at = bodies_->plane.project(base);
+  const double radius = config_.beneath_radius_m / metres_per_unit_, margin = config_.beneath_margin_m / metres_per_unit_;
+  bodies_->bases.around(at, [&](std::uint64_t other_id) {
+    if (other_id == id.value) return;
+    const Pose& other = poses_.at(other_id);
+    const Eigen::Vector3d other_base = baseAt(other).translation();
+    if ((bodies_->plane.project(other_base) - at).norm() > radius) return;
+    // This sensor under the other's ground, or the other's sensor under this ground.
+    if (up_W_.dot(other_base - pose.position_W) > margin && undersided_.insert(other_id).second) {
+      newly_undersided_.push_back(mesher::KeyframeId{other_id});
+    }
+    if (up_W_.dot(base - other.position_W) > margin) undersided_.insert(id.value);
+  });
+  bodies_->bases.add(at, id.value);
+}
+
+std::optional<mesher::Keyframe> TrajectoryEvidence::undersideViewOf(mesher::KeyframeId id) const {
+  const auto it = poses_.find(id.value);
+  if (it == poses_.end() || undersided_.count(id.value) == 0 || overridden_.count(id.value) != 0) return std::nullopt;
+  mesher::Keyframe view;
+  view.id = bodyViewId(id, kUndersideViewSlot);
+  view.position_W_C = it->second.position_W;
+  view.rotation_W_C = it->second.rotation_W_C;
+  view.observations = undersidesOf(samplesAt(id, it->second));
+  if (view.observations.empty()) return std::nullopt;
+  return view;
+}
+
+void TrajectoryEvidence::configureMesher(mesher::MesherConfig& config) const {
+  config.driven_ground_up_W = up_W_;
+  config.driven_underside_depth_m = config_.underside_depth_m;
+}
+
+std::vector<mesher::PointObservation> TrajectoryEvidence::undersidesOf(
+    const std::vector<mesher::PointObservation>& samples) const {
+  std::vector<mesher::PointObservation> undersides;
+  if (!(config_.underside_depth_m > 0)) return undersides;
+  undersides.reserve(samples.size());
+  for (mesher::PointObservation sample : samples) {
+    sample.point.value += kDrivenUndersideIndex;
+    sample.position_W -= (config_.underside_depth_m / metres_per_unit_) * up_W_;
+    sample.kind = mesher::PointKind::kDrivenUnderside;
+    undersides.push_back(sample);
+  }
+  return undersides;
 }
 
 bool TrajectoryEvidence::insideBody(const Eigen::Isometry3d& T_W_B, const Eigen::Vector3d& p_W) const {
@@ -285,6 +342,7 @@ void TrajectoryEvidence::overrideDrive(std::uint64_t id, bool with_previous) {
   if (!overridden_.insert(id).second) return;
   newly_overridden_.push_back(mesher::KeyframeId{id});
   for (const mesher::KeyframeId& view : bodyViewIds(mesher::KeyframeId{id})) newly_withdrawn_views_.push_back(view);
+  newly_withdrawn_views_.push_back(bodyViewId(mesher::KeyframeId{id}, kUndersideViewSlot));
   const Pose& pose = poses_.at(id);
   // The keyframe sent after it has its body view at this one's base.
   const auto after = by_order_.upper_bound(pose.order);
@@ -407,14 +465,17 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
     poses_.emplace(keyframe.id.value, pose);
   } else {
     indexBodies(keyframe.id, known->second, false);
+    bodies_->bases.erase(bodies_->plane.project(baseAt(known->second).translation()), keyframe.id.value);
     known->second = pose;
   }
   indexBodies(keyframe.id, pose, true);
+  findLevelsBeneath(keyframe.id, pose);
   return augmented;
 }
 
 std::optional<Eigen::Isometry3d> TrajectoryEvidence::baseOf(mesher::PointId id) const {
   if (!isDrivenGroundId(id)) return std::nullopt;
+  // The underside of ground sample i was put down with it.
   const std::uint64_t index = id.value & (kMaxDrivenSamplesPerKeyframe - 1);
   const std::uint64_t keyframe = (id.value & ~kDrivenGroundIdBit) >> kDrivenSampleIndexBits;
   const auto it = poses_.find(keyframe);
@@ -428,7 +489,9 @@ std::vector<mesher::PointId> TrajectoryEvidence::sampleIdsOf(mesher::KeyframeId 
   const auto it = poses_.find(id.value);
   if (it == poses_.end()) return {};
   std::vector<mesher::PointId> ids;
-  for (const mesher::PointObservation& sample : samplesAt(id, it->second)) ids.push_back(sample.point);
+  const std::vector<mesher::PointObservation> samples = samplesAt(id, it->second);
+  for (const mesher::PointObservation& sample : samples) ids.push_back(sample.point);
+  for (const mesher::PointObservation& sample : undersidesOf(samples)) ids.push_back(sample.point);
   return ids;
 }
 
@@ -463,7 +526,9 @@ std::vector<mesher::PointId> TrajectoryEvidence::remove(mesher::KeyframeId id) {
   if (it == poses_.end()) return {};
   std::vector<mesher::PointId> ids = sampleIdsOf(id);
   indexBodies(id, it->second, false);
+  bodies_->bases.erase(bodies_->plane.project(baseAt(it->second).translation()), id.value);
   overridden_.erase(id.value);
+  undersided_.erase(id.value);
   by_order_.erase(it->second.order);
   poses_.erase(it);
   return ids;

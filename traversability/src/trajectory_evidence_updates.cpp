@@ -4,6 +4,7 @@
 #include "traversability/trajectory_evidence.h"
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace terramesh::traversability {
@@ -28,12 +29,19 @@ mesher::UpdateStats TrajectoryEvidence::integrate(mesher::Mesher& mesher, const 
   if (views.empty()) {
     for (const mesher::KeyframeId& view : bodyViewIds(keyframe.id)) stats += mesher.removeKeyframe(view);
   }
+  // The undersides of the drives with a level beneath: this keyframe's (at its pose now), and those
+  // of earlier keyframes its sensor lies beneath.
+  if (const std::optional<mesher::Keyframe> view = undersideViewOf(keyframe.id)) stats += mesher.integrateKeyframe(*view);
+  for (const mesher::KeyframeId& id : newly_undersided_) {
+    if (const std::optional<mesher::Keyframe> view = undersideViewOf(id)) stats += mesher.integrateKeyframe(*view);
+  }
   return stats;
 }
 
 mesher::UpdateStats TrajectoryEvidence::removeKeyframe(mesher::Mesher& mesher, mesher::KeyframeId id) {
   mesher::UpdateStats stats = mesher.removeKeyframe(id);
   for (const mesher::KeyframeId& view : bodyViewIds(id)) stats += mesher.removeKeyframe(view);
+  stats += mesher.removeKeyframe(bodyViewId(id, kUndersideViewSlot));
   // The keyframe after it still observes the samples (its sweep rays): they go with their keyframe.
   const std::vector<mesher::PointId> samples = remove(id);
   if (!samples.empty()) stats += mesher.removePoints(samples);

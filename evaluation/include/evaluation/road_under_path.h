@@ -30,8 +30,11 @@ struct RoadUnderPathConfig {
 
 /// The map's classes on the road under the camera path.
 struct RoadUnderPath {
-  /// Area (m^2) of the map pieces under the path, per predicted class.
+  /// Area (m^2) of the map pieces under the path, per predicted class. Pieces facing down (a
+  /// ceiling, a parking deck's underside: normal within 60 degrees of down) are not the road.
   ClassAreas areas;
+  /// Area (m^2) of the pieces facing down in the band, left out of `areas`.
+  double facing_down_m2 = 0;
   /// Each class's share of areas.total() (NaN if nothing lies under the path).
   double free_fraction = 0;
   double lethal_fraction = 0;

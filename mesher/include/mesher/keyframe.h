@@ -19,7 +19,18 @@ enum class PointKind : std::uint8_t {
   /// otherwise an ordinary point: its rays carve free space, a re-sent keyframe moves it, and it
   /// goes when no keyframe observes it any more. Its vertex key is an ordinary point key.
   kDrivenGround = 1,
+  /// The underside of driven ground: a virtual vertex a fixed depth under a driven-ground sample
+  /// (ground a robot drove on is solid at least that deep, a parking deck's slab included).
+  /// Inserted with a single view and traces no ray: it carves nothing, and with the driven
+  /// samples above it keeps a layer of matter under the drive that cameras on a level beneath
+  /// cannot carve away (MapState::isFree). It moves and goes as a driven sample does.
+  kDrivenUnderside = 2,
 };
+
+/// Whether a point of this kind is a virtual sample of the drive, inserted with a single view.
+inline bool isDrivenKind(PointKind kind) { return kind != PointKind::kSlam; }
+/// Whether a point of this kind traces visibility rays from the keyframes that observe it.
+inline bool tracesRays(PointKind kind) { return kind != PointKind::kDrivenUnderside; }
 
 /// One point seen by a keyframe, with the SLAM system's current estimate of its position.
 struct PointObservation {

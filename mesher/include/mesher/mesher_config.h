@@ -91,9 +91,14 @@ struct MesherConfig {
   double move_threshold_m = 0.0;
   /// Up, for driven-ground samples (PointKind::kDrivenGround), as a unit vector in W; zero: not
   /// given. When given, a cell incident to a driven-ground vertex whose centroid lies below that
-  /// vertex along up is never free space: the robot stood on the ground there, so nothing under it
-  /// is empty, whatever rays pass near it.
+  /// vertex along up is free space only by rays from cameras below the vertex: the robot stood on
+  /// the ground there, so no ray from above passed through it (a camera on the level beneath a
+  /// parking deck did not look through it).
   Eigen::Vector3d driven_ground_up_W = Eigen::Vector3d::Zero();
+  /// How far under its driven-ground sample an underside vertex (PointKind::kDrivenUnderside)
+  /// lies, metres: for the rule above, an underside vertex stands for driven ground this far above
+  /// it. In [0, 10].
+  double driven_underside_depth_m = 0.0;
   /// Whether inserted points follow their SLAM estimates (proposed) or stay put (baselines).
   PointPolicy point_policy = PointPolicy::kExactMoves;
 
@@ -143,6 +148,7 @@ struct MesherConfig {
   double maxCameraDistanceUnits() const { return max_camera_distance_m / metres_per_unit; }
   double steinerStepUnits() const { return steiner_step_m / metres_per_unit; }
   double moveThresholdUnits() const { return move_threshold_m / metres_per_unit; }
+  double drivenUndersideDepthUnits() const { return driven_underside_depth_m / metres_per_unit; }
 
  private:
   MesherMode mode_ = MesherMode::kProposed;

@@ -24,10 +24,14 @@ namespace terramesh::traversability {
 
 /// Point ids with this bit set are driven-ground samples; SLAM point ids must not use it.
 inline constexpr std::uint64_t kDrivenGroundIdBit = std::uint64_t{1} << 63;
-/// A sample's id: kDrivenGroundIdBit | keyframe id << kDrivenSampleIndexBits | sample index.
-inline constexpr int kDrivenSampleIndexBits = 6;
-/// Most samples one keyframe can carry (the index field's size).
-inline constexpr std::size_t kMaxDrivenSamplesPerKeyframe = std::size_t{1} << kDrivenSampleIndexBits;
+/// A sample's id: kDrivenGroundIdBit | keyframe id << kDrivenSampleIndexBits | sample index. The
+/// index's lower half numbers the ground samples, its upper half (kDrivenUndersideIndex + i) the
+/// underside of ground sample i.
+inline constexpr int kDrivenSampleIndexBits = 7;
+/// Most ground samples one keyframe can carry (half the index field).
+inline constexpr std::size_t kMaxDrivenSamplesPerKeyframe = std::size_t{1} << (kDrivenSampleIndexBits - 1);
+/// Index of the underside of a keyframe's ground sample 0.
+inline constexpr std::uint64_t kDrivenUndersideIndex = kMaxDrivenSamplesPerKeyframe;
 /// Largest keyframe id that fits in a sample id.
 inline constexpr std::uint64_t kMaxDrivenKeyframeId = (std::uint64_t{1} << (63 - kDrivenSampleIndexBits)) - 1;
 
@@ -47,6 +51,8 @@ inline constexpr std::uint64_t kBodyViewSlots = 3;
 inline mesher::KeyframeId bodyViewId(mesher::KeyframeId id, std::uint64_t slot = 0) {
   return mesher::KeyframeId{kBodyViewKeyframeBit | slot << kBodyViewSlotShift | id.value};
 }
+/// The slot of keyframe k's underside view (TrajectoryEvidence::undersideViewOf), after the body views.
+inline constexpr std::uint64_t kUndersideViewSlot = kBodyViewSlots;
 /// The ids of every body view keyframe `id` can have (to remove them: the mesher ignores unknown ids).
 inline std::vector<mesher::KeyframeId> bodyViewIds(mesher::KeyframeId id) {
   std::vector<mesher::KeyframeId> ids;
@@ -118,6 +124,18 @@ struct TrajectoryEvidenceConfig {
   /// inside the body where the robot was two or more keyframes before, withdraws that keyframe's
   /// driven evidence (TrajectoryEvidence::newlyOverridden).
   bool later_obstacles_win = true;
+
+  /// Ground a robot drove on is solid at least this deep. Where a level lies beneath the drive (a
+  /// parking deck over the floor below), each driven-ground sample gets an underside vertex
+  /// (mesher::PointKind::kDrivenUnderside) this far below it: the mesher keeps the layer between
+  /// them matter, so the cameras beneath carve their level up to it without carving the road
+  /// above away. 0: none.
+  double underside_depth_m = 0.1;
+  /// A level lies beneath a keyframe's driven ground when a keyframe's sensor lies more than
+  /// `beneath_margin_m` below that ground, within `beneath_radius_m` of it horizontally (a hill
+  /// rising less than (sensor height + margin) / radius never counts).
+  double beneath_radius_m = 10.0;
+  double beneath_margin_m = 1.0;
 
   /// Each keyframe sent after a keyframe within `max_sweep_distance_m` gets its body views
   /// (TrajectoryEvidence::bodyViewsOf) in the mesher; off: none (for ablation studies).
@@ -215,8 +233,9 @@ class TrajectoryEvidence {
   /// trajectory evidence: the keyframe with its samples (augment); the points the drive
   /// contradicts out of the mesher (newlyContradicted); the drive of the keyframes later obstacles
   /// overrode withdrawn (newlyWithdrawnViews, then their samples); then this keyframe's body views
-  /// (bodyViewsOf, when `body_views` is on), or the removal of the ones it had. Returns the sum of
-  /// the mesher's updates.
+  /// (bodyViewsOf, when `body_views` is on), or the removal of the ones it had; then the underside
+  /// views of this keyframe and of the keyframes it newly found a level beneath
+  /// (undersideViewOf, newlyUndersided). Returns the sum of the mesher's updates.
   /// @throw std::invalid_argument as augment and mesher::Mesher::integrateKeyframe do.
   mesher::UpdateStats integrate(mesher::Mesher& mesher, const mesher::Keyframe& keyframe);
   /// Removes keyframe `id` from `mesher` with its body views and then its samples, and forgets it
@@ -281,13 +300,27 @@ class TrajectoryEvidence {
   const std::vector<mesher::KeyframeId>& newlyWithdrawnViews() const { return newly_withdrawn_views_; }
   /// How many keyframes later obstacles have overridden so far.
   std::size_t overriddenCount() const { return overridden_.size(); }
-  /// The ids of all samples keyframe `id` has or had (its patch and stations); empty if unknown.
+  /// The ids of all samples keyframe `id` has or had (its patch and stations, and their
+  /// undersides); empty if unknown.
   std::vector<mesher::PointId> sampleIdsOf(mesher::KeyframeId id) const;
 
   /// The robot base frame (map frame, map units) where driven-ground sample `id` was put down: at
   /// its keyframe's current pose or station. nullopt for an id that is not a sample of a recorded
   /// keyframe. (TraversabilityMap::setDrivePoses.)
   std::optional<Eigen::Isometry3d> baseOf(mesher::PointId id) const;
+
+  /// The underside view of keyframe `id`: a keyframe of its own (id bodyViewId(id,
+  /// kUndersideViewSlot)) at its sensor, observing the undersides of its samples (patch and
+  /// stations), when a level lies beneath its drive (`beneath_radius_m`); else empty (remove an
+  /// earlier one then). Its observations trace no ray.
+  std::optional<mesher::Keyframe> undersideViewOf(mesher::KeyframeId id) const;
+  /// Keyframes sent before, whose drive the last augment() found to have a level beneath (its
+  /// sensor lies under their ground): send their underside views (undersideViewOf).
+  const std::vector<mesher::KeyframeId>& newlyUndersided() const { return newly_undersided_; }
+
+  /// Sets the mesher's ground rule for this evidence: `driven_ground_up_W` and
+  /// `driven_underside_depth_m` (mesher::MesherConfig), before the mesher is made.
+  void configureMesher(mesher::MesherConfig& config) const;
 
   /// Samples of one patch (a keyframe carries one patch, plus one per station).
   std::size_t samplesPerKeyframe() const { return layout_B_m_.size(); }
@@ -316,6 +349,11 @@ class TrajectoryEvidence {
     std::uint64_t previous_id = 0;
   };
   std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
+  /// The underside vertices of `samples` (underside_depth_m below each; none at 0).
+  std::vector<mesher::PointObservation> undersidesOf(const std::vector<mesher::PointObservation>& samples) const;
+  /// Marks keyframe `id` (its pose recorded) and the keyframes near it as undersided where a
+  /// sensor lies beneath a drive (newly_undersided_ lists the earlier ones).
+  void findLevelsBeneath(mesher::KeyframeId id, const Pose& pose);
   /// The pose at `station` (0: the keyframe's own; 1..stations from the previous pose on).
   Pose stationPose(const Pose& pose, std::size_t station) const;
   /// The robot base frame B at a keyframe's pose (map units).
@@ -366,6 +404,9 @@ class TrajectoryEvidence {
   std::unordered_set<std::uint64_t> overridden_;
   std::vector<mesher::KeyframeId> newly_overridden_;
   std::vector<mesher::KeyframeId> newly_withdrawn_views_;
+  /// Keyframes whose drive has a level beneath it (undersideViewOf), and the newly found ones.
+  std::unordered_set<std::uint64_t> undersided_;
+  std::vector<mesher::KeyframeId> newly_undersided_;
   std::unordered_map<std::uint64_t, Pose> poses_;
   std::map<std::uint64_t, mesher::KeyframeId> by_order_;
   std::uint64_t next_order_ = 0;
