@@ -50,10 +50,10 @@ struct MapState {
 
   /// Whether `cell` is free space: its weight is above the threshold, or, over driven ground, a
   /// ray to a driven-ground sample crosses it (the robot's body passed there). Under driven ground
-  /// (MesherConfig::driven_ground_up_W) only rays from cameras under that ground count: a ray from
-  /// above would have passed through ground the robot drove on, while one from below (a camera on
-  /// the level beneath a parking deck, or lower on a ramp) did not. A function of the cell's rays,
-  /// their keyframes and the cell's vertices only.
+  /// (MesherConfig::driven_ground_up_W) only rays from beneath that ground count (freedFromBelow):
+  /// a ray from above would have passed through ground the robot drove on, while one from a camera
+  /// on the level beneath a parking deck did not. A function of the cell's rays, their keyframes
+  /// and points, and the cell's vertices only.
   bool isFree(const CellHandle& cell) const {
     const int side = drivenGroundSide(cell);
     if (side < 0) return weights.isFree(cell) && freedFromBelow(cell);
@@ -61,10 +61,9 @@ struct MapState {
   }
 
   /// Where `cell` lies relative to the driven ground its corners stand for, judged by its centroid
-  /// along MesherConfig::driven_ground_up_W: -1 below a driven-ground corner or with an underside
-  /// corner (which lies inside the ground, MesherConfig::driven_underside_depth_m under the driven
-  /// ground it stands for), +1 above all of them, 0 with none (or when up is not given, or the
-  /// cell is infinite).
+  /// along MesherConfig::driven_ground_up_W: -1 below one of them, +1 above all of them, 0 with
+  /// none (or when up is not given, or the cell is infinite). A driven-ground corner stands for
+  /// the ground at itself, an underside corner for the ground driven_underside_depth_m above it.
   int drivenGroundSide(const CellHandle& cell) const {
     std::array<Eigen::Vector3d, 4> over;
     return drivenGroundSide(cell, over, nullptr);
@@ -92,7 +91,6 @@ struct MapState {
     int side = 1;
     for (int k = 0; k < count; ++k) {
       Eigen::Vector3d corner = position(driven[k]);
-      // An underside lies inside the ground: every cell at it is under the driven ground above it.
       const bool underside = registry.point(cell->vertex(driven[k])->info().point).kind == PointKind::kDrivenUnderside;
       if (underside) corner += config.drivenUndersideDepthUnits() * up;
       if ((centroid - corner).dot(up) >= 0) continue;
