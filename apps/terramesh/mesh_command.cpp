@@ -311,7 +311,9 @@ void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesyst
             << " on the ground it drove (near the contact plane, under the footprint), stood for by the "
                "driven samples; "
             << evidence_.overriddenKeyframes()
-            << " keyframe(s) whose drive an obstacle seen later overrode (their driven evidence withdrawn)\n";
+            << " keyframe(s) whose drive an obstacle seen later overrode (their driven evidence withdrawn); "
+            << evidence_.undersidedKeyframes()
+            << " keyframe(s) with a level beneath their drive (its ground given undersides)\n";
   }
   if (evidence_.warning()) summary << "warning: " << *evidence_.warning() << '\n';
   if (traversability_) traversability_->finish(*mesher_, summary);

@@ -62,7 +62,11 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
     patches << " and at stations at most " << std::max(config.station_spacing_m, run.evidence_->patchLengthM())
             << " m apart between keyframes";
   }
-  if (config.underside_depth_m > 0) patches << ", each with its underside " << config.underside_depth_m << " m below";
+  if (config.underside_depth_m > 0) {
+    patches << "; where a keyframe's sensor lies beneath a drive (a level under a deck), that drive's samples get "
+               "undersides "
+            << config.underside_depth_m << " m below";
+  }
   run.summary_ += patches.str();
   return run;
 }

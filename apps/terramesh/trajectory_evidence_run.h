@@ -63,6 +63,8 @@ class TrajectoryEvidenceRun {
   std::size_t absorbedPoints() const { return evidence_ ? evidence_->absorbedCount() : 0; }
   /// Keyframes whose drive obstacles seen later overrode so far.
   std::size_t overriddenKeyframes() const { return evidence_ ? evidence_->overriddenCount() : 0; }
+  /// Keyframes with a level beneath their drive, whose samples got undersides.
+  std::size_t undersidedKeyframes() const { return evidence_ ? evidence_->undersidedCount() : 0; }
   /// A disagreement between a given height and the data, if any.
   const std::optional<std::string>& warning() const { return warning_; }
   /// The settings that decide the samples ("off" or the height and layout): a resumed run must

@@ -298,6 +298,8 @@ class TrajectoryEvidence {
   /// sent after each (its view stands at the overridden keyframe's base). Remove them from the
   /// mesher (unknown ids are ignored there).
   const std::vector<mesher::KeyframeId>& newlyWithdrawnViews() const { return newly_withdrawn_views_; }
+  /// How many keyframes have a level beneath their drive (undersideViewOf) so far.
+  std::size_t undersidedCount() const { return undersided_.size(); }
   /// How many keyframes later obstacles have overridden so far.
   std::size_t overriddenCount() const { return overridden_.size(); }
   /// The ids of all samples keyframe `id` has or had (its patch and stations, and their
