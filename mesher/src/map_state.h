@@ -55,8 +55,10 @@ struct MapState {
   /// on the level beneath a parking deck did not. A function of the cell's rays, their keyframes
   /// and points, and the cell's vertices only.
   bool isFree(const CellHandle& cell) const {
-    const int side = drivenGroundSide(cell);
-    if (side < 0) return weights.isFree(cell) && freedFromBelow(cell);
+    std::array<Eigen::Vector3d, 4> over;
+    int count_over = 0;
+    const int side = drivenGroundSide(cell, over, count_over);
+    if (side < 0) return weights.isFree(cell) && freedFromBelow(cell, over, count_over);
     return weights.isFree(cell) || (side > 0 && cell->info().driven_crossings > 0);
   }
 
@@ -64,22 +66,20 @@ struct MapState {
   /// along MesherConfig::driven_ground_up_W: -1 below one of them, +1 above all of them, 0 with
   /// none (or when up is not given, or the cell is infinite). A driven-ground corner stands for
   /// the ground at itself, an underside corner for the ground driven_underside_depth_m above it.
-  int drivenGroundSide(const CellHandle& cell) const {
-    std::array<Eigen::Vector3d, 4> over;
-    return drivenGroundSide(cell, over, nullptr);
-  }
-
-  /// As drivenGroundSide(cell); also gives the driven ground the centroid lies below (the points
-  /// its corners stand for, over[0, *count_over)) when `count_over` is not null.
-  int drivenGroundSide(const CellHandle& cell, std::array<Eigen::Vector3d, 4>& over, int* count_over) const {
-    if (count_over) *count_over = 0;
+  /// The driven ground the centroid lies below (the points its corners stand for) goes to
+  /// over[0, count_over).
+  int drivenGroundSide(const CellHandle& cell, std::array<Eigen::Vector3d, 4>& over, int& count_over) const {
+    count_over = 0;
     if (config.driven_ground_up_W.isZero(0) || tri.is_infinite(cell)) return 0;
     // Most cells have no driven corner: find them before computing anything (a hot path).
     int driven[4];
+    bool underside[4];
     int count = 0;
     for (int i = 0; i < 4; ++i) {
       const std::uint32_t point = cell->vertex(i)->info().point;
-      if (point != kNone && isDrivenKind(registry.point(point).kind)) driven[count++] = i;
+      if (point == kNone || !isDrivenKind(registry.point(point).kind)) continue;
+      underside[count] = registry.point(point).kind == PointKind::kDrivenUnderside;
+      driven[count++] = i;
     }
     if (count == 0) return 0;
     const Eigen::Vector3d& up = config.driven_ground_up_W;
@@ -91,25 +91,20 @@ struct MapState {
     int side = 1;
     for (int k = 0; k < count; ++k) {
       Eigen::Vector3d corner = position(driven[k]);
-      const bool underside = registry.point(cell->vertex(driven[k])->info().point).kind == PointKind::kDrivenUnderside;
-      if (underside) corner += config.drivenUndersideDepthUnits() * up;
+      if (underside[k]) corner += config.drivenUndersideDepthUnits() * up;
       if ((centroid - corner).dot(up) >= 0) continue;
       side = -1;
-      if (!count_over) return side;
-      over[static_cast<std::size_t>((*count_over)++)] = corner;
+      over[static_cast<std::size_t>(count_over++)] = corner;
     }
     return side;
   }
 
-  /// Whether rays from beneath all the driven ground the centroid of `cell` lies under weigh
-  /// enough, on their own, to make a crossed cell free (crossings x weight_crossed over the
-  /// threshold). A ray is from beneath when its camera lies below that ground and its point lies
+  /// Whether rays from beneath all the driven ground the centroid of `cell` lies under (`over`,
+  /// from drivenGroundSide) weigh enough, on their own, to make a crossed cell free (crossings x
+  /// weight_crossed over the threshold). A ray is from beneath when its camera lies below that ground and its point lies
   /// more than the underside depth below it: a camera lower on a ramp looking at the deck ahead
   /// sees points on the deck, through the thin cells under its samples.
-  bool freedFromBelow(const CellHandle& cell) const {
-    std::array<Eigen::Vector3d, 4> over;
-    int count_over = 0;
-    drivenGroundSide(cell, over, &count_over);
+  bool freedFromBelow(const CellHandle& cell, const std::array<Eigen::Vector3d, 4>& over, int count_over) const {
     const Eigen::Vector3d& up = config.driven_ground_up_W;
     const double depth = config.drivenUndersideDepthUnits();
     double weight = 0;
