@@ -39,18 +39,19 @@ void canonicalize(TriangleMesh& mesh) {
     sorted.vertex_keys.push_back(mesh.vertex_keys[order[i]]);
   }
   // Faces sorted with their observation counts.
-  std::vector<std::array<std::uint32_t, 5>> records(mesh.faces.size());
+  std::vector<std::array<std::uint32_t, 6>> records(mesh.faces.size());
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
     auto face = mesh.faces[f];
     for (auto& index : face) index = rank[index];
     std::rotate(face.begin(), std::min_element(face.begin(), face.end()), face.end());
-    records[f] = {face[0], face[1], face[2], mesh.face_rays[f], mesh.face_front_crossings[f]};
+    records[f] = {face[0], face[1], face[2], mesh.face_rays[f], mesh.face_front_crossings[f], mesh.face_view_sides[f]};
   }
   std::sort(records.begin(), records.end());
   for (const auto& r : records) {
     sorted.faces.push_back({r[0], r[1], r[2]});
     sorted.face_rays.push_back(r[3]);
     sorted.face_front_crossings.push_back(r[4]);
+    sorted.face_view_sides.push_back(static_cast<std::uint8_t>(r[5]));
   }
   mesh = std::move(sorted);
 }
@@ -88,6 +89,7 @@ TriangleMesh Mesher::Impl::extractMesh() const {
       const SurfaceFace observed = makeFace(cell, i);
       mesh.face_rays.push_back(observed.rays);
       mesh.face_front_crossings.push_back(observed.front_crossings);
+      mesh.face_view_sides.push_back(observed.view_sides);
     }
   }
   canonicalize(mesh);

@@ -87,6 +87,11 @@ TriangleMesh readPly(const std::filesystem::path& path) {
         mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(crossings->values[f]));
       }
     }
+    if (const ply::Property* sides = faces->find("view_sides"); sides && !sides->isList()) {
+      for (std::size_t f = 0; f < faces->count; ++f) {
+        mesh.face_view_sides.push_back(checkedViewSides(sides->values[f], file, "face " + std::to_string(f)));
+      }
+    }
   }
   return mesh;
 }
@@ -224,6 +229,9 @@ void writePly(const std::filesystem::path& path, const TriangleMesh& mesh, const
       property.values.assign(counts->begin(), counts->end());
     }
   }
+  if (mesh.face_view_sides.size() == mesh.faces.size()) {
+    faces.addScalar("view_sides", ply::Type::kUInt8).values.assign(mesh.face_view_sides.begin(), mesh.face_view_sides.end());
+  }
   ply::writeFile(path, document, ply::Format::kBinaryLittleEndian);
 }
 
@@ -247,6 +255,14 @@ TriangleMesh readMesh(const std::filesystem::path& path) {
   if (!in) throw InputError(path.string(), "", "cannot open file for reading");
   if (extension == ".off") return requireFiniteVertices(path.string(), readOff(path.string(), in));
   return requireFiniteVertices(path.string(), readObj(path.string(), in));
+}
+
+std::uint8_t checkedViewSides(double value, const std::string& file, const std::string& where) {
+  constexpr double kAll = view_side::kFront | view_side::kBehind;
+  if (!(value >= 0 && value <= kAll) || value != static_cast<double>(static_cast<int>(value))) {
+    throw InputError(file, where, "view_sides must be an integer from 0 to 3 (bit 1: seen from in front, 2: from behind)");
+  }
+  return static_cast<std::uint8_t>(value);
 }
 
 }  // namespace terramesh::mesher

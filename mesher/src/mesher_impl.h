@@ -70,6 +70,9 @@ class Mesher::Impl {
   // Surface queries (surface_queries.cpp).
   /// The surface face on facet `facet` of `front` (a cell of O whose neighbour there is not).
   SurfaceFace makeFace(const internal::CellHandle& front, int facet) const;
+  /// SurfaceFace::view_sides of a face on `vertices` with normal `normal` (towards free space,
+  /// any non-zero length).
+  std::uint8_t viewSides(const std::array<internal::VertexHandle, 3>& vertices, const Eigen::Vector3d& normal) const;
   /// The vertex with this key, or null.
   internal::VertexHandle vertexOf(const VertexKey& key) const;
 

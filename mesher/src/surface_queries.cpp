@@ -1,6 +1,7 @@
 // Mesher::Impl's surface queries: revisions, deltas and the faces with their observation counts.
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -47,7 +48,31 @@ SurfaceFace Mesher::Impl::makeFace(const CellHandle& front, int facet) const {
     }
   }
   face.key = FaceKey::of(keys[0], keys[1], keys[2]);
+  const Eigen::Vector3d& a = face.positions_W[0];
+  const Eigen::Vector3d normal = (face.positions_W[1] - a).cross(face.positions_W[2] - a);
+  if (normal.norm() > 0) face.view_sides = viewSides(vertices, normal);
   return face;
+}
+
+std::uint8_t Mesher::Impl::viewSides(const std::array<VertexHandle, 3>& vertices, const Eigen::Vector3d& normal) const {
+  // A view within this angle of the plane (sine) is grazing: the points' noise may tilt the face by
+  // that much, so it shows neither side.
+  const double grazing = std::sin(view_side::kGrazingDeg * M_PI / 180.0);
+  const Eigen::Vector3d n = normal.normalized();
+  std::uint8_t sides = 0;
+  for (const VertexHandle& v : vertices) {
+    if (v->info().point == internal::kNone) continue;
+    const Eigen::Vector3d at = internal::toEigen(v->point());
+    // Stored rays, not every keyframe: a face is reported again when its points' rays change.
+    for (internal::RayId ray : state_.registry.point(v->info().point).rays) {
+      const Eigen::Vector3d to_camera = state_.registry.keyframe(state_.rays[ray].keyframe).centre_W - at;
+      const double side = n.dot(to_camera);
+      const double length = to_camera.norm();
+      if (side > grazing * length) sides |= view_side::kFront;
+      if (side < -grazing * length) sides |= view_side::kBehind;
+    }
+  }
+  return sides;
 }
 
 VertexHandle Mesher::Impl::vertexOf(const VertexKey& key) const {

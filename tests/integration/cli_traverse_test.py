@@ -20,8 +20,8 @@ CHECKER = os.path.join(SHARED, "tools", "check_mesh.py")
 ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
 
 # list, cost, lethal, unknown, uncertain, 7 floats, height_uncertainty_m, evidence, rays, reasons (ushort),
-# front_crossings, steiner
-FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 2 + 4 + 4 + 1
+# heading_fits, front_crossings, view_sides, steiner
+FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 2 + 4 + 4 + 1 + 1
 VERTEX_BYTES = 3 * 8 + 1 + 4  # x y z, steiner, cost
 
 
@@ -123,13 +123,13 @@ class TempDirCase(unittest.TestCase):
         # The reasons bits are named in the header, lowest first (docs/traversability.md's table).
         self.assertIn("comment reasons bits, lowest first: too_steep no_heading_fits low_clearance guessed_wall "
                       "possible_step slope_may_exceed worst_case_relief possible_obstacle obstacle_extension "
-                      "unconfirmed_point unknown_low_clearance closing_geometry few_rays", lines)
+                      "unconfirmed_point unknown_low_clearance closing_geometry few_rays seen_from_behind", lines)
         vertex, face = elements
         self.assertEqual(vertex["properties"], ["x", "y", "z", "steiner", "cost"])
         self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "uncertain", "slope_deg",
                                               "step_m", "roughness_m", "contact", "contact_best", "clearance_m",
                                               "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
-                                              "reasons", "heading_fits", "front_crossings", "steiner"])
+                                              "reasons", "heading_fits", "front_crossings", "view_sides", "steiner"])
         self.assertEqual(os.path.getsize(os.path.join(out, "traversability.ply")),
                          header_size + vertex["count"] * VERTEX_BYTES + face["count"] * FACE_BYTES)
         for level in range(levels):

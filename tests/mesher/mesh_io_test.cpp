@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <unistd.h>
 
 #include "common/input_error.h"
@@ -29,6 +30,18 @@ class MeshIoTest : public ::testing::Test {
     return mesh;
   }
 
+  /// What readMesh(file) throws; an empty message (and a failure) if it reads the file.
+  static std::string readError(const fs::path& file, std::string* where = nullptr) {
+    try {
+      readMesh(file);
+    } catch (const InputError& error) {
+      if (where) *where = error.where();
+      return error.what();
+    }
+    ADD_FAILURE() << "expected an InputError for " << file;
+    return "";
+  }
+
   fs::path dir_;
 };
 
@@ -40,6 +53,29 @@ TEST_F(MeshIoTest, PlyRoundTripKeepsPositionsFacesAndSteinerFlags) {
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) EXPECT_EQ(read.vertices[i], mesh.vertices[i]);
   EXPECT_EQ(read.faces, mesh.faces);
   EXPECT_EQ(read.is_steiner, mesh.is_steiner);
+}
+
+TEST_F(MeshIoTest, PlyRoundTripKeepsTheFacesObservation) {
+  TriangleMesh mesh = sample();
+  mesh.face_rays = {7, 0, 3, 12};
+  mesh.face_front_crossings = {2, 0, 3, 5};
+  mesh.face_view_sides = {view_side::kFront, 0, view_side::kBehind, view_side::kFront | view_side::kBehind};
+  writePly(dir_ / "m.ply", mesh);
+  const TriangleMesh read = readMesh(dir_ / "m.ply");
+  EXPECT_EQ(read.face_rays, mesh.face_rays);
+  EXPECT_EQ(read.face_front_crossings, mesh.face_front_crossings);
+  EXPECT_EQ(read.face_view_sides, mesh.face_view_sides);
+}
+
+TEST_F(MeshIoTest, AViewSidesValueOutsideItsBitsNamesTheFace) {
+  std::ofstream(dir_ / "sides.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                       "property float y\nproperty float z\nelement face 2\n"
+                                       "property list uchar int vertex_indices\nproperty uchar view_sides\nend_header\n"
+                                       "0 0 0\n1 0 0\n1 1 0\n3 0 1 2 3\n3 0 2 1 4\n";
+  std::string where;
+  const std::string message = readError(dir_ / "sides.ply", &where);
+  EXPECT_EQ(where, "face 1");
+  EXPECT_NE(message.find("view_sides"), std::string::npos) << message;
 }
 
 TEST_F(MeshIoTest, ObjRoundTrip) {
@@ -74,12 +110,8 @@ TEST_F(MeshIoTest, AnAsciiListCountTooLargeForAnyListIsAnError) {
                                        "property float y\nproperty float z\nelement face 1\n"
                                        "property list uchar int vertex_indices\nend_header\n"
                                        "0 0 0\n1 0 0\n1 1 0\n1.66667e+111 0 1 2\n";
-  try {
-    readMesh(dir_ / "count.ply");
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    EXPECT_NE(std::string(error.what()).find("count above"), std::string::npos) << error.what();
-  }
+  const std::string message = readError(dir_ / "count.ply");
+  EXPECT_NE(message.find("count above"), std::string::npos) << message;
 }
 
 TEST_F(MeshIoTest, MissingFileIsAnError) {

@@ -16,7 +16,9 @@
 #include "datasets/triangle_bvh.h"
 #include "mesher/mesher.h"
 #include "test_support/mesh_queries.h"
+#include "traversability/layer_registry.h"
 #include "traversability/robot_profile_yaml.h"
+#include "traversability/traversability_map.h"
 #include "traversability/trajectory_evidence.h"
 
 namespace terramesh::traversability {
@@ -29,28 +31,30 @@ struct Garage {
   datasets::SimulatedSlam slam;
 };
 
-const Garage& garage() {
-  static const Garage* const kGarage = [] {
-    auto* g = new Garage;
-    datasets::GarageSceneConfig config;
-    config.length_m = 40.0;
-    config.seed = 3;
-    g->scene = datasets::buildGarageScene(config);
-    const datasets::TriangleBvh bvh(g->scene.ground_truth.mesh);
-    datasets::SlamSimulationConfig slam;
-    slam.seed = 3;
-    g->slam = datasets::simulateSlam(g->scene, bvh, slam);
-    return g;
-  }();
-  return *kGarage;
+Garage makeGarage(double length_m, std::uint64_t seed) {
+  Garage g;
+  datasets::GarageSceneConfig config;
+  config.length_m = length_m;
+  config.seed = seed;
+  g.scene = datasets::buildGarageScene(config);
+  const datasets::TriangleBvh bvh(g.scene.ground_truth.mesh);
+  datasets::SlamSimulationConfig slam;
+  slam.seed = seed;
+  g.slam = datasets::simulateSlam(g.scene, bvh, slam);
+  return g;
 }
 
-/// The garage meshed with trajectory evidence (the generator's 1.5 m sensor height) and the
-/// ground rule, or without either.
-mesher::TriangleMesh meshGarage(bool with_evidence) {
-  const Garage& g = garage();
+/// A 40 m garage, seed 3.
+const Garage& garage() {
+  static const Garage kGarage = makeGarage(40.0, 3);
+  return kGarage;
+}
+
+/// Garage `g` meshed with trajectory evidence for `robot` (the generator's 1.5 m sensor height)
+/// and the ground rule, or without either.
+mesher::TriangleMesh meshGarage(bool with_evidence, const Garage& g = garage(), const char* robot_file = "small_wheeled.yaml") {
   mesher::MesherConfig config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
-  const RobotProfile robot = loadRobotProfile(kRobots / "small_wheeled.yaml");
+  const RobotProfile robot = loadRobotProfile(kRobots / robot_file);
   TrajectoryEvidence evidence(robot, g.scene.up_W.normalized(), 1.0, datasets::GarageSceneConfig{}.camera_height_m,
                               Eigen::Vector3d::UnitZ(), TrajectoryEvidenceConfig{});
   if (with_evidence) evidence.configureMesher(config);
@@ -71,6 +75,12 @@ mesher::TriangleMesh meshGarage(bool with_evidence) {
   mesher::TriangleMesh mesh = mesher.extractMesh();
   EXPECT_TRUE(mesher::analyzeTopology(mesh).isClosedManifold());
   return mesh;
+}
+
+/// meshGarage(true), built once.
+const mesher::TriangleMesh& garageWithEvidence() {
+  static const mesher::TriangleMesh kMesh = meshGarage(true);
+  return kMesh;
 }
 
 /// A fraction of the samples under the camera path on each level.
@@ -184,7 +194,7 @@ TEST(GroundRuleLevelsTest, OnlyADriveWithASensorBeneathItGetsUndersides) {
 }
 
 TEST(GroundRuleLevelsTest, TheFloorBeneathADrivenDeckStaysFreeAndTheDeckSolid) {
-  const mesher::TriangleMesh with = meshGarage(true);
+  const mesher::TriangleMesh& with = garageWithEvidence();
   const mesher::TriangleMesh without = meshGarage(false);
   const double camera_height_m = datasets::GarageSceneConfig{}.camera_height_m;
   // The sensor's own path, and the robot's body height under it (0.5 m above the floor).
@@ -211,6 +221,59 @@ TEST(GroundRuleLevelsTest, TheFloorBeneathADrivenDeckStaysFreeAndTheDeckSolid) {
   std::printf("0.1 m under the upper deck's road (in the slab) in free space: %.3f (%.3f without evidence)\n",
               slab.upper_deck, slab_off.upper_deck);
   EXPECT_LE(slab.upper_deck, 0.02);
+}
+
+// The default 48 m garage, seed 2, with the legged robot's evidence: growing keeps a level face on
+// the deck's ceiling points (5.9 m up) facing up into free space that reaches closing geometry.
+// No camera was ever above it.
+TEST(GroundRuleLevelsTest, TheTopOfTheCeilingIsSeenOnlyFromBehindAndNeverFree) {
+  const Garage g = makeGarage(datasets::GarageSceneConfig{}.length_m, 2);
+  const mesher::TriangleMesh mesh = meshGarage(true, g, "legged.yaml");
+  ASSERT_EQ(mesh.face_view_sides.size(), mesh.faces.size());
+  const Eigen::Vector3d up = g.scene.up_W.normalized();
+  double top_camera = -1e9;
+  for (const datasets::StreamEvent& event : g.slam.stream.events) {
+    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+      top_camera = std::max(top_camera, keyframe->position_W_C.dot(up));
+    }
+  }
+  const RobotProfile legged = loadRobotProfile(kRobots / "legged.yaml");
+  const LayeredMesh map = TraversabilityMap::computeForMesh(mesh, legged, MapFrame{}, 10);
+  // Faces within 10 degrees of level, facing up, over every camera (on the deck's ceiling) and on
+  // the ground floor's road. A camera below such a face lies behind its plane or within
+  // view_side::kGrazingDeg of it (steeper faces on the ceiling's edges may face a far camera).
+  std::size_t above = 0, above_front = 0, above_free = 0, above_flagged = 0, floor = 0, floor_front = 0;
+  double above_m2 = 0;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const auto& face = mesh.faces[f];
+    const Eigen::Vector3d a = mesh.vertices[face[0]], b = mesh.vertices[face[1]], c = mesh.vertices[face[2]];
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const std::uint8_t sides = mesh.face_view_sides[f];
+    if (!(n.normalized().dot(up) > std::cos(mesher::view_side::kGrazingDeg * M_PI / 180.0)) || sides == 0) continue;
+    const bool front = (sides & mesher::view_side::kFront) != 0;
+    if (std::min({a.dot(up), b.dot(up), c.dot(up)}) > top_camera + 0.5) {
+      ++above;
+      above_m2 += 0.5 * n.norm();
+      above_front += front ? 1 : 0;
+      above_free += map.layers[f].face_class == FaceClass::kFree ? 1 : 0;
+      above_flagged += (map.layers[f].reasons & reason::kSeenFromBehind) != 0 ? 1 : 0;
+    } else if (std::max({a.dot(up), b.dot(up), c.dot(up)}) < 0.2) {
+      ++floor;
+      floor_front += front ? 1 : 0;
+    }
+  }
+  std::printf("level faces facing up over every camera: %zu (%.1f m2; %zu seen from in front, %zu free, %zu "
+              "seen_from_behind); on the ground floor: %zu (%zu seen from in front)\n", above, above_m2, above_front,
+              above_free, above_flagged, floor, floor_front);
+  // No camera was above the ceiling: its points were all seen from below, and a robot on top of it
+  // would stand where nobody looked (8.2 m2 of it was free before the rule).
+  ASSERT_GT(above, 0u);
+  EXPECT_EQ(above_front, 0u);
+  EXPECT_EQ(above_free, 0u);
+  EXPECT_GT(above_flagged, 0u);
+  // The ground floor's road is seen from the cameras above it.
+  ASSERT_GT(floor, 100u);
+  EXPECT_GE(static_cast<double>(floor_front) / static_cast<double>(floor), 0.99);
 }
 
 }  // namespace

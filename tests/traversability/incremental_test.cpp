@@ -58,6 +58,7 @@ class EditableSurface {
   EditableSurface() : mesh_(test::heightFieldMesh(-5, 5, -5, 5, 0.25, [](double, double) { return 0.0; })) {
     for (std::size_t f = 0; f < mesh_.faces.size(); ++f) rays_.push_back(10);
     crossings_.assign(mesh_.faces.size(), 4);
+    sides_.assign(mesh_.faces.size(), mesher::view_side::kFront);
     present_.assign(mesh_.faces.size(), true);
   }
 
@@ -70,8 +71,8 @@ class EditableSurface {
   }
 
   /// One random edit: raise or lower the vertices in a disc (a bump, a pit, a block), cut or
-  /// restore a patch, or change the ray counts of a patch (and whether rays cross the space in
-  /// front of its faces). Returns the delta from before.
+  /// restore a patch, or change the ray counts of a patch (whether rays cross the space in front
+  /// of its faces, and which side of them the cameras saw). Returns the delta from before.
   mesher::SurfaceDelta edit(std::mt19937& rng) {
     std::uniform_real_distribution<double> coord(-5, 5), unit(0, 1);
     const Eigen::Vector2d centre(coord(rng), coord(rng));
@@ -99,6 +100,7 @@ class EditableSurface {
       if (kind == 2) {
         rays_[f] = static_cast<std::uint32_t>(rng() % 6);
         crossings_[f] = std::min(rays_[f], static_cast<std::uint32_t>(rng() % 3));
+        sides_[f] = static_cast<std::uint8_t>(rng() % 4);
       }
       if (present_[f]) delta.added.push_back(face(f));
     }
@@ -119,11 +121,13 @@ class EditableSurface {
     face.key = keyOf(f);
     face.rays = rays_[f];
     face.front_crossings = crossings_[f];
+    face.view_sides = sides_[f];
     return face;
   }
 
   mesher::TriangleMesh mesh_;
   std::vector<std::uint32_t> rays_, crossings_;
+  std::vector<std::uint8_t> sides_;
   std::vector<bool> present_;
 };
 
@@ -134,7 +138,7 @@ TEST(IncrementalTest, RandomEditsEqualFullRecomputation) {
     TraversabilityMap map(profile, MapFrame{});
     map.reset(facesOf(surface.faces()));
     std::mt19937 rng(11);
-    std::size_t lethal_seen = 0, unknown_seen = 0, uncertain_seen = 0, interpolated_seen = 0;
+    std::size_t lethal_seen = 0, unknown_seen = 0, uncertain_seen = 0, interpolated_seen = 0, behind_seen = 0;
     for (int step = 0; step < 25; ++step) {
       const LayerUpdateStats stats = map.apply(surface.edit(rng), {});
       EXPECT_LE(stats.faces_recomputed, stats.faces_total);
@@ -147,12 +151,14 @@ TEST(IncrementalTest, RandomEditsEqualFullRecomputation) {
         unknown_seen += l.face_class == FaceClass::kUnknown;
         uncertain_seen += l.face_class == FaceClass::kUncertain;
         interpolated_seen += l.face_class != FaceClass::kUnknown && l.evidence == Evidence::kInterpolated;
+        behind_seen += (l.reasons & reason::kSeenFromBehind) != 0;
       }
     }
     EXPECT_GT(lethal_seen, 0u) << "the edits must create lethal faces for the test to mean anything";
     EXPECT_GT(unknown_seen, 0u);
     EXPECT_GT(uncertain_seen, 0u);
     EXPECT_GT(interpolated_seen, 0u);
+    EXPECT_GT(behind_seen, 0u);
   }
 }
 
@@ -203,6 +209,27 @@ TEST(IncrementalTest, FacesReaddedWithTheSameGeometryAreNotChanges) {
   stats = map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {second});
   EXPECT_GT(stats.faces_recomputed, 1u);
   expectEqualsFull("after the crossings came back");
+
+  // Re-added seen only from behind: uncertain, as a full computation says; and back, through the
+  // faces around touched vertices.
+  SurfaceFace& third = std::next(faces.begin(), 80)->second;
+  ASSERT_EQ(third.view_sides, mesher::view_side::kFront);
+  third.view_sides = mesher::view_side::kBehind;
+  stats = map.apply(mesher::SurfaceDelta{0, 0, true, {third.key}, {third}, {}}, {});
+  EXPECT_EQ(stats.faces_readded_unchanged, 1u);
+  expectEqualsFull("after the views went behind");
+  const auto layersOfThird = [&] {
+    const LayeredMesh now = map.snapshot();
+    const auto at = std::find(now.face_keys.begin(), now.face_keys.end(), third.key);
+    EXPECT_NE(at, now.face_keys.end());
+    return now.layers.at(static_cast<std::size_t>(at - now.face_keys.begin()));
+  };
+  EXPECT_EQ(layersOfThird().face_class, FaceClass::kUncertain);
+  EXPECT_TRUE(layersOfThird().reasons & reason::kSeenFromBehind);
+  third.view_sides = mesher::view_side::kFront | mesher::view_side::kBehind;
+  map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {third});
+  expectEqualsFull("after a view from in front");
+  EXPECT_EQ(layersOfThird().face_class, FaceClass::kFree);
 
   // The same key with a vertex moved by a nanometre is a real change.
   SurfaceFace& last = faces.rbegin()->second;

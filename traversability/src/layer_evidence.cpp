@@ -154,6 +154,11 @@ std::uint16_t LayerComputer::uncertainReasons(const StoredFace& face) const {
     reasons |= face.worst_case_reasons != 0 ? face.worst_case_reasons : reason::kWorstCaseRelief;
   }
   if (face.clearance_unknown_low) reasons |= reason::kUnknownLowClearance;
+  // Every keyframe that saw its points lies behind its plane (the top of a slab seen from below):
+  // the side it faces, where a robot would stand, was never observed. Not on driven ground.
+  if (l.evidence != Evidence::kDriven && face.view_sides == mesher::view_side::kBehind) {
+    reasons |= reason::kSeenFromBehind;
+  }
   return reasons;
 }
 

@@ -89,7 +89,7 @@ const std::vector<const char*>& reason::names() {
       "too_steep",         "no_heading_fits",    "low_clearance",         "guessed_wall",
       "possible_step",     "slope_may_exceed",   "worst_case_relief",     "possible_obstacle",
       "obstacle_extension", "unconfirmed_point", "unknown_low_clearance", "closing_geometry",
-      "few_rays"};
+      "few_rays",          "seen_from_behind"};
   return kNames;
 }
 

@@ -36,6 +36,8 @@ struct StoredFace {
   std::uint32_t rays = 0;
   /// Rays through the free cell in front of the face (mesher::SurfaceFace::front_crossings).
   std::uint32_t front_crossings = 0;
+  /// Which sides of its plane its points were seen from (mesher::SurfaceFace::view_sides).
+  std::uint8_t view_sides = 0;
   /// How many vertices are driven-ground samples (mesher::SurfaceFace::driven_vertices).
   std::uint8_t driven_vertices = 0;
   bool steiner = false;

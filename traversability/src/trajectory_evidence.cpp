@@ -81,7 +81,7 @@ void TrajectoryEvidenceConfig::validate() const {
 
 struct TrajectoryEvidence::BodyIndex {
   BodyIndex(const Eigen::Vector3d& up_W, double cell, double beneath_cell)
-      : plane(geometry::planFrame(up_W)), cells(cell), point_cells(cell), bases(beneath_cell) {}
+      : plane(geometry::planFrame(up_W)), bases(beneath_cell), cells(cell), point_cells(cell) {}
   geometry::PlanFrame plane;
   /// Keyframe ids under the horizontal cell of their base (cell: beneath_radius_m).
   internal::HorizontalGrid<std::uint64_t> bases;

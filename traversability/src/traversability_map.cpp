@@ -154,10 +154,11 @@ class TraversabilityMap::Impl {
     reevidenced.clear();
     const auto setRays = [&](Slot s, const mesher::SurfaceFace& face) {
       StoredFace& f = store_.face(s);
-      if (f.rays == face.rays && f.front_crossings == face.front_crossings) return;
+      if (f.rays == face.rays && f.front_crossings == face.front_crossings && f.view_sides == face.view_sides) return;
       f.rays = face.rays;
       f.layers.rays = face.rays;
       f.front_crossings = face.front_crossings;
+      f.view_sides = face.view_sides;
       if (computer_.setEvidence(store_, s)) {
         reevidenced.push_back(s);
         change_points.push_back(f.centroid_L);
@@ -328,6 +329,7 @@ class TraversabilityMap::Impl {
       out.mesh.faces.push_back({index.at(f.vertices[0]), index.at(f.vertices[1]), index.at(f.vertices[2])});
       out.mesh.face_rays.push_back(f.rays);
       out.mesh.face_front_crossings.push_back(f.front_crossings);
+      out.mesh.face_view_sides.push_back(f.view_sides);
       out.layers.push_back(f.layers);
       out.face_keys.push_back(f.key);
     }
@@ -552,15 +554,12 @@ LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, 
     if (has_keys) return mesh.vertex_keys[v];
     return mesher::VertexKey{v, has_flags && mesh.is_steiner[v] != 0};
   };
-  std::vector<mesher::SurfaceFace> faces;
-  faces.reserve(mesh.faces.size());
-  std::vector<mesher::FaceKey> keys;
-  keys.reserve(mesh.faces.size());
+  std::vector<mesher::SurfaceFace> faces(mesh.faces.size());
   const bool observed =
       mesh.face_rays.size() == mesh.faces.size() && mesh.face_front_crossings.size() == mesh.faces.size();
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
     const auto& tri = mesh.faces[f];
-    mesher::SurfaceFace face;
+    mesher::SurfaceFace& face = faces[f];
     bool steiner = false;
     for (int i = 0; i < 3; ++i) {
       if (tri[i] >= mesh.vertices.size()) throw std::invalid_argument("computeForMesh: face index out of range");
@@ -582,8 +581,8 @@ LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, 
       face.rays = steiner ? 0 : rays_if_unknown;
       face.front_crossings = face.rays;
     }
-    keys.push_back(face.key);
-    faces.push_back(face);
+    // Without the sides (another program's mesh, an older file): seen from in front.
+    face.view_sides = mesh.face_view_sides.size() == mesh.faces.size() ? mesh.face_view_sides[f] : mesher::view_side::kFront;
   }
   TraversabilityMap map(profile, frame);
   map.reset(faces);
@@ -591,9 +590,10 @@ LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, 
   out.mesh = mesh;
   out.up_W = frame.up_W.normalized();
   out.metres_per_unit = frame.metres_per_unit;
-  out.face_keys = keys;
-  out.layers.reserve(keys.size());
-  for (const mesher::FaceKey& key : keys) out.layers.push_back(*map.impl_->layersOf(key));
+  for (const mesher::SurfaceFace& face : faces) {
+    out.face_keys.push_back(face.key);
+    out.layers.push_back(*map.impl_->layersOf(face.key));
+  }
   return out;
 }
 

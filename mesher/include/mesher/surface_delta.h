@@ -71,7 +71,22 @@ struct SurfaceFace {
   /// How many of its vertices (0-3) are driven-ground samples (PointKind::kDrivenGround): ground
   /// the robot's own trajectory put there.
   std::uint8_t driven_vertices = 0;
+  /// On which sides of the face's plane lie the keyframes whose rays end on its vertices
+  /// (view_side bits, counted when the face was reported); a view within view_side::kGrazingDeg
+  /// of the plane counts for neither. view_side::kBehind alone: its points were seen only from
+  /// behind, so the side it faces, the one a robot would stand on, was never observed (the top
+  /// of a ceiling slab seen from below).
+  std::uint8_t view_sides = 0;
 };
+
+/// Bits of SurfaceFace::view_sides.
+namespace view_side {
+inline constexpr std::uint8_t kFront = 1;   ///< a keyframe in front of the plane (the free side)
+inline constexpr std::uint8_t kBehind = 2;  ///< a keyframe behind it (the matter side)
+/// Views closer to the plane than this show neither side: the points' noise tilts a face by a
+/// few degrees (3 cm over 1 m is 1.7 degrees).
+inline constexpr double kGrazingDeg = 10.0;
+}  // namespace view_side
 
 /// What changed on the surface between two revisions of a Mesher.
 ///

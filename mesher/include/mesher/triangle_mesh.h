@@ -30,6 +30,9 @@ struct TriangleMesh {
   /// `front_crossings`).
   std::vector<std::uint32_t> face_rays;
   std::vector<std::uint32_t> face_front_crossings;
+  /// Per face, SurfaceFace::view_sides (view_side bits). Either empty (unknown) or the same size
+  /// as `faces`; the PLY writer and reader keep it (face property `view_sides`).
+  std::vector<std::uint8_t> face_view_sides;
 
   std::size_t vertexCount() const { return vertices.size(); }
   std::size_t faceCount() const { return faces.size(); }

@@ -66,8 +66,9 @@ inline constexpr std::uint16_t kUnconfirmedPoint = 1u << 9;    ///< a point too 
 inline constexpr std::uint16_t kUnknownLowClearance = 1u << 10; ///< uncertain: closing geometry above, too low
 inline constexpr std::uint16_t kClosingGeometry = 1u << 11;    ///< unknown: touches a Steiner vertex
 inline constexpr std::uint16_t kFewRays = 1u << 12;            ///< unknown: observed by fewer than min_rays rays
+inline constexpr std::uint16_t kSeenFromBehind = 1u << 13;     ///< uncertain: its points seen only from behind it
 /// How many bits there are.
-inline constexpr std::size_t kCount = 13;
+inline constexpr std::size_t kCount = 14;
 /// Names of the bits, lowest first ("too_steep", ...): kCount of them.
 const std::vector<const char*>& names();
 }  // namespace reason

@@ -9,6 +9,7 @@
 #include "common/input_error.h"
 #include "common/ply.h"
 #include "export_writers.h"
+#include "mesher/mesh_io.h"
 #include "traversability/layer_registry.h"
 
 namespace terramesh::traversability::internal {
@@ -117,6 +118,9 @@ void writeLayeredPly(const std::filesystem::path& path, const LayeredMesh& map) 
     scalar(faces, "front_crossings", Type::kUInt32, face_count,
            [&](std::size_t f) { return mesh.face_front_crossings[f]; });
   }
+  if (mesh.face_view_sides.size() == face_count) {
+    scalar(faces, "view_sides", Type::kUInt8, face_count, [&](std::size_t f) { return mesh.face_view_sides[f]; });
+  }
   scalar(faces, "steiner", Type::kUInt8, face_count, [&](std::size_t f) { return layers[f].steiner; });
   ply::writeFile(path, document, ply::Format::kBinaryLittleEndian);
 }
@@ -150,6 +154,7 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
   const ply::Property& steiner = require(*faces, "steiner", file);
   const ply::Property* uncertain = faces->find("uncertain");
   const ply::Property* front_crossings = faces->find("front_crossings");
+  const ply::Property* view_sides = faces->find("view_sides");
   // The registry's layers (the cost is read and checked with the class below); optional ones may
   // be missing (older files): their faces keep the defaults.
   std::vector<std::pair<const LayerInfo*, const ply::Property*>> registry_layers;
@@ -197,6 +202,7 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
       mesh.face_rays.push_back(layers.rays);
       mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(c));
     }
+    if (view_sides && !view_sides->isList()) mesh.face_view_sides.push_back(mesher::checkedViewSides(view_sides->values[f], file, where));
   }
   return map;
 }
