@@ -1,10 +1,12 @@
 // graph::bestFirstSearch, the one graph search: Dijkstra and A* on small graphs whose answers are
-// known by hand, ties, unreachable targets and a full sweep.
+// known by hand, ties, unreachable targets and a full sweep; and its multi-source bounded form,
+// graph::boundedDijkstra, against single-source searches from each source.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "common/graph_search.h"
@@ -81,6 +83,68 @@ TEST(GraphSearchTest, EqualCostsGoToTheLowerNodeIdSoSearchesRepeat) {
   const SearchResult r = search(g, 0, 3);
   EXPECT_EQ(r.pathTo(3), (std::vector<std::uint32_t>{0, 1, 3}));
   EXPECT_EQ(r.parent_label[3], 1u);
+}
+
+TEST(GraphSearchTest, BoundedDijkstraFromSeveralSourcesIsTheNearestSourcesCostWithinTheCutoff) {
+  // A random undirected graph; sources at cost 0 and one at 0.7; the cutoff 2.5 keeps nothing
+  // beyond it.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> length(0.1, 1.0);
+  constexpr std::uint32_t kNodes = 60;
+  Graph g(kNodes);
+  for (std::uint32_t e = 0; e < 150; ++e) {
+    const std::uint32_t a = rng() % kNodes, b = rng() % kNodes;
+    const double c = length(rng);
+    g[a].push_back({b, c, e});
+    g[b].push_back({a, c, e});
+  }
+  const std::vector<std::pair<std::uint32_t, double>> sources = {{3, 0.0}, {17, 0.0}, {40, 0.7}};
+  const double cutoff = 2.5;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> cost(kNodes, inf);
+  CostHeap heap;
+  for (const auto& [node, at] : sources) {
+    cost[node] = at;
+    pushCost(heap, at, node);
+  }
+  pushCost(heap, 9.0, 3);  // a stale entry: above node 3's cost, skipped
+  std::size_t expanded = 0;
+  boundedDijkstra(
+      heap, [&](std::uint32_t v) -> double& { return cost[v]; },
+      [&](std::uint32_t u, const auto& relax) {
+        ++expanded;
+        for (const Edge& e : g[u]) relax(e.to, e.cost);
+      },
+      cutoff);
+  EXPECT_TRUE(heap.empty());
+  std::size_t reached = 0;
+  for (std::uint32_t v = 0; v < kNodes; ++v) {
+    double expected = inf;
+    for (const auto& [node, at] : sources) expected = std::min(expected, at + search(g, node, SearchResult::kNone).cost[v]);
+    if (expected > cutoff) expected = inf;
+    reached += expected < inf ? 1 : 0;
+    EXPECT_DOUBLE_EQ(cost[v], expected) << "node " << v;
+  }
+  EXPECT_GT(reached, 10u);
+  EXPECT_LT(reached, static_cast<std::size_t>(kNodes));  // the cutoff leaves some out
+  EXPECT_EQ(expanded, reached);                           // each node expanded once, the stale entry not
+  // A cost already below what the search finds stays (faces outside the region searched keep theirs).
+  std::uint32_t far = 3;
+  for (std::uint32_t v = 0; v < kNodes; ++v) {
+    if (cost[v] < inf && cost[v] > cost[far]) far = v;
+  }
+  ASSERT_GT(cost[far], 1.0);
+  std::fill(cost.begin(), cost.end(), inf);
+  cost[3] = 0;
+  cost[far] = 0.5;
+  pushCost(heap, 0.0, 3);
+  boundedDijkstra(
+      heap, [&](std::uint32_t v) -> double& { return cost[v]; },
+      [&](std::uint32_t u, const auto& relax) {
+        for (const Edge& e : g[u]) relax(e.to, e.cost);
+      },
+      inf);
+  EXPECT_DOUBLE_EQ(cost[far], 0.5);
 }
 
 }  // namespace

@@ -6,11 +6,11 @@
 #include <chrono>
 #include <cmath>
 #include <map>
-#include <queue>
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
 
+#include "common/graph_search.h"
 #include "common/plan_frame.h"
 #include "face_projection.h"
 #include "layer_computer.h"
@@ -395,48 +395,31 @@ class TraversabilityMap::Impl {
 
   double edgeM(Slot a, Slot b) const { return (store_.centroid(a) - store_.centroid(b)).norm(); }
 
-  using QueueEntry = std::pair<double, Slot>;
-  /// A min-heap whose storage can be taken back (to reuse its memory).
-  struct Queue : std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> {
-    using Base = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>>;
-    Queue() = default;
-    Queue(const std::greater<QueueEntry>& less, std::vector<QueueEntry>&& storage) : Base(less, std::move(storage)) {
-      c.clear();
-    }
-    std::vector<QueueEntry> storage() && { return std::move(c); }
-  };
-
-  /// Dijkstra from the queue, relaxing only faces for which `inside` holds; distances beyond the
-  /// inflation radius are not kept.
+  /// Dijkstra from the heap's faces, relaxing only faces for which `inside` holds; distances
+  /// beyond the inflation radius are not kept.
   template <class Inside>
-  void dijkstra(Queue& queue, Inside&& inside) {
-    const double cutoff = profile_.inflation_radius_m;
-    while (!queue.empty()) {
-      const auto [d, s] = queue.top();
-      queue.pop();
-      if (d > distance_[s]) continue;
-      store_.neighbours(s, scratch_);
-      for (Slot t : scratch_) {
-        if (!inside(t)) continue;
-        const double nd = d + edgeM(s, t);
-        if (nd <= cutoff && nd < distance_[t]) {
-          distance_[t] = nd;
-          queue.emplace(nd, t);
-        }
-      }
-    }
+  void dijkstra(graph::CostHeap& heap, Inside&& inside) {
+    graph::boundedDijkstra(
+        heap, [&](Slot s) -> double& { return distance_[s]; },
+        [&](Slot s, const auto& relax) {
+          store_.neighbours(s, scratch_);
+          for (Slot t : scratch_) {
+            if (inside(t)) relax(t, edgeM(s, t));
+          }
+        },
+        profile_.inflation_radius_m);
   }
 
   void fullInflation() {
-    Queue queue;
+    graph::CostHeap& heap = heap_;
     for (Slot s = 0; s < store_.slotCount(); ++s) {
       distance_[s] = kInf;
       if (store_.face(s).alive && lethal_[s]) {
         distance_[s] = 0;
-        queue.emplace(0.0, s);
+        graph::pushCost(heap, 0.0, s);
       }
     }
-    dijkstra(queue, [](Slot) { return true; });
+    dijkstra(heap, [](Slot) { return true; });
   }
 
   /// Recomputes the distances of the faces within the inflation radius (straight-line, a lower
@@ -456,12 +439,12 @@ class TraversabilityMap::Impl {
         region.push_back(s);
       });
     }
-    Queue queue(std::greater<QueueEntry>(), std::move(queue_storage_));
+    graph::CostHeap& heap = heap_;
     for (Slot s : region) distance_[s] = kInf;
     for (Slot s : region) {
       if (lethal_[s]) {
         distance_[s] = 0;
-        queue.emplace(0.0, s);
+        graph::pushCost(heap, 0.0, s);
         continue;
       }
       store_.neighbours(s, scratch_);
@@ -470,10 +453,9 @@ class TraversabilityMap::Impl {
         const double nd = distance_[b] + edgeM(b, s);
         if (nd <= profile_.inflation_radius_m && nd < distance_[s]) distance_[s] = nd;
       }
-      if (std::isfinite(distance_[s])) queue.emplace(distance_[s], s);
+      if (std::isfinite(distance_[s])) graph::pushCost(heap, distance_[s], s);
     }
-    dijkstra(queue, [&](Slot t) { return mark_[t] == epoch; });
-    queue_storage_ = std::move(queue).storage();
+    dijkstra(heap, [&](Slot t) { return mark_[t] == epoch; });
     return region;
   }
 
@@ -494,7 +476,8 @@ class TraversabilityMap::Impl {
   std::vector<Change> changed_;
   std::vector<Slot> reobserved_, reevidenced_, added_, dirty_, region_, edge_neighbours_, scratch_neighbours_;
   std::unordered_set<mesher::FaceKey> unchanged_;
-  std::vector<QueueEntry> queue_storage_;
+  /// The inflation's heap, kept between updates for its storage.
+  graph::CostHeap heap_;
   /// The mesher's points not in the mesh (possible obstacles), and the positions (L) where they
   /// changed since the last apply().
   internal::UnconfirmedPoints unconfirmed_;

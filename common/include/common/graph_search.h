@@ -1,8 +1,10 @@
 #pragma once
 // The one graph search of terramesh: best-first search (A*, or Dijkstra with a zero heuristic)
 // over nodes 0..n-1 whose edges a callback enumerates. The planner's face-graph A* and the
-// shortest traversable lengths on the truth use it.
+// shortest traversable lengths on the truth use it; its multi-source, bounded form on costs the
+// caller keeps (boundedDijkstra) keeps the layers' distance to the nearest lethal face current.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -79,6 +81,43 @@ SearchResult bestFirstSearch(std::size_t node_count, std::uint32_t source, std::
     expand(u, relax);
   }
   return result;
+}
+
+/// A min-heap of (cost, node) for boundedDijkstra; its storage may be kept between searches.
+using CostHeap = std::vector<std::pair<double, std::uint32_t>>;
+
+/// Adds `node` at `cost` to a CostHeap.
+inline void pushCost(CostHeap& heap, double cost, std::uint32_t node) {
+  heap.emplace_back(cost, node);
+  std::push_heap(heap.begin(), heap.end(), std::greater<>());
+}
+
+/// Dijkstra from every entry already in `heap` (the sources, at their costs), on costs the caller
+/// keeps: `cost(v)` returns a reference to node v's best cost so far (infinite: not reached), which
+/// the search lowers, so a search on part of a large graph touches only that part and allocates
+/// nothing once the heap's storage has grown. `expand(u, relax)` enumerates the edges of node u by
+/// calling relax(v, edge_cost) (costs >= 0); a cost above `cutoff` is not kept. An entry above its
+/// node's cost is stale and skipped. Ties pop the lower node first. Leaves the heap empty (its
+/// storage kept). O((V + E) log V) over the nodes reached.
+template <class Cost, class Expand>
+void boundedDijkstra(CostHeap& heap, Cost&& cost, Expand&& expand, double cutoff) {
+  double from_cost = 0;
+  const auto relax = [&](std::uint32_t v, double edge_cost) {
+    const double candidate = from_cost + edge_cost;
+    double& current = cost(v);
+    if (candidate <= cutoff && candidate < current) {
+      current = candidate;
+      pushCost(heap, candidate, v);
+    }
+  };
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+    const auto [key, u] = heap.back();
+    heap.pop_back();
+    if (key > cost(u)) continue;
+    from_cost = key;
+    expand(u, relax);
+  }
 }
 
 }  // namespace terramesh::graph
