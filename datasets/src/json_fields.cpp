@@ -1,72 +1,12 @@
 #include "json_fields.h"
 
-#include <algorithm>
 #include <cmath>
 
-#include "binary_input.h"
 #include "camera_pose.h"
-#include "common/input_error.h"
 
 namespace terramesh::datasets::internal {
-namespace {
 
 using nlohmann::json;
-
-std::string lineAndColumn(const std::string& text, std::size_t byte) {
-  byte = std::min(byte, text.size());
-  std::size_t line = 1;
-  std::size_t column = 1;
-  for (std::size_t i = 0; i + 1 < byte; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
-}  // namespace
-
-json readJsonFile(const std::filesystem::path& path, const std::string& expected) {
-  const std::string text = readWholeFile(path);
-  try {
-    return json::parse(text);
-  } catch (const json::parse_error& error) {
-    throw InputError(path.string(), lineAndColumn(text, error.byte),
-                     "malformed JSON (expected " + expected + ")");
-  } catch (const json::out_of_range& error) {
-    // A number too large for a double (1e999): nlohmann names the token, not where it is.
-    throw InputError(path.string(), "",
-                     std::string("number out of range (") + error.what() + "; expected " + expected + ")");
-  }
-}
-
-std::string JsonFieldReader::join(const std::string& path, const std::string& key) {
-  return path.empty() ? key : path + "." + key;
-}
-
-std::string JsonFieldReader::at(const std::string& path, std::size_t index) {
-  return path + "[" + std::to_string(index) + "]";
-}
-
-void JsonFieldReader::fail(const std::string& where, const std::string& problem) const {
-  throw InputError(file_, where, problem);
-}
-
-const json& JsonFieldReader::member(const json& object, const char* key,
-                                    const std::string& path) const {
-  if (!object.is_object()) fail(path, "expected a JSON object");
-  const auto it = object.find(key);
-  if (it == object.end()) fail(join(path, key), "missing field");
-  return *it;
-}
-
-const json& JsonFieldReader::array(const json& value, const std::string& path) const {
-  if (!value.is_array()) fail(path, "expected an array");
-  return value;
-}
 
 std::uint64_t JsonFieldReader::id(const json& value, const std::string& path) const {
   if (value.is_number_unsigned()) return value.get<std::uint64_t>();
@@ -74,11 +14,6 @@ std::uint64_t JsonFieldReader::id(const json& value, const std::string& path) co
     return static_cast<std::uint64_t>(value.get<std::int64_t>());
   }
   fail(path, "expected a non-negative integer id");
-}
-
-std::string JsonFieldReader::string(const json& value, const std::string& path) const {
-  if (!value.is_string()) fail(path, "expected a string");
-  return value.get<std::string>();
 }
 
 Eigen::Vector3d JsonFieldReader::vector3(const json& value, const std::string& path) const {

@@ -150,7 +150,7 @@ class SfmDataParser {
 }  // namespace
 
 SlamStream readOpenMvgSfmData(const std::filesystem::path& path) {
-  return SfmDataParser(path.string()).parse(internal::readJsonFile(path, "OpenMVG sfm_data JSON"));
+  return SfmDataParser(path.string()).parse(terramesh::json::readJsonFile(path, "OpenMVG sfm_data JSON"));
 }
 
 }  // namespace terramesh::datasets

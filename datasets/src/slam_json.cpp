@@ -133,7 +133,7 @@ json viewToJson(const mesher::Keyframe& keyframe, bool version01) {
 
 SlamStream readSlamJson(const std::filesystem::path& path) {
   return JsonStreamParser(path.string())
-      .parse(internal::readJsonFile(path, "the authors' slam_data JSON"));
+      .parse(terramesh::json::readJsonFile(path, "the authors' slam_data JSON"));
 }
 
 void writeSlamJson(const std::filesystem::path& path, const SlamStream& stream,

@@ -170,7 +170,7 @@ class TilesBadInputTest(unittest.TestCase):
         self.assertBadInput(result, str(broken), "tiles[0].bounds_m.min_x", "expected a number")
         (broken.parent / "truncated.json").write_text(self.plan.read_text()[:40])
         result = run("tiles", "merge", str(broken.parent / "truncated.json"), check=False)
-        self.assertBadInput(result, "truncated.json", "not valid JSON")
+        self.assertBadInput(result, "truncated.json", "malformed JSON")
 
     def test_missing_stream_and_other_stream(self):
         result = run("mesh", str(self.tmp / "nowhere.tmstream"), "--tile", f"{self.plan}:0", "--robot", ROBOT,

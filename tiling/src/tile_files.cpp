@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "common/input_error.h"
-#include "json_checked.h"
+#include "common/json_fields.h"
 
 namespace terramesh::tiling {
 namespace {
@@ -19,22 +19,22 @@ nlohmann::json rectJson(const PlanRect& rect) {
   return {{"min_x", rect.min_x_m}, {"min_y", rect.min_y_m}, {"max_x", rect.max_x_m}, {"max_y", rect.max_y_m}};
 }
 
-PlanRect readRect(const internal::JsonChecked& json, const nlohmann::json& object, const std::string& path) {
-  const nlohmann::json& rect = json.field(object, "bounds_m", path);
-  const std::string where = internal::joinPath(path, "bounds_m");
+PlanRect readRect(const json::FieldReader& json, const nlohmann::json& object, const std::string& path) {
+  const nlohmann::json& rect = json.member(object, "bounds_m", path);
+  const std::string where = json::FieldReader::join(path, "bounds_m");
   PlanRect result{json.number(rect, "min_x", where), json.number(rect, "min_y", where), json.number(rect, "max_x", where),
                   json.number(rect, "max_y", where)};
   if (result.empty()) json.fail(where, "expected min_x < max_x and min_y < max_y");
   return result;
 }
 
-TileSpec readTile(const internal::JsonChecked& json, const nlohmann::json& item, std::size_t i) {
+TileSpec readTile(const json::FieldReader& json, const nlohmann::json& item, std::size_t i) {
   const std::string path = "tiles[" + std::to_string(i) + "]";
   TileSpec tile;
   tile.index = json.count(item, "index", path);
-  if (tile.index != i) json.fail(internal::joinPath(path, "index"), "expected " + std::to_string(i) + " (tiles in order)");
-  tile.name = json.text(item, "name", path);
-  if (tile.name != tileName(i)) json.fail(internal::joinPath(path, "name"), "expected \"" + tileName(i) + "\"");
+  if (tile.index != i) json.fail(json::FieldReader::join(path, "index"), "expected " + std::to_string(i) + " (tiles in order)");
+  tile.name = json.string(item, "name", path);
+  if (tile.name != tileName(i)) json.fail(json::FieldReader::join(path, "name"), "expected \"" + tileName(i) + "\"");
   tile.column = json.integer(item, "column", path);
   tile.row = json.integer(item, "row", path);
   tile.bounds = readRect(json, item, path);
@@ -62,12 +62,12 @@ void writeTilePlan(const std::filesystem::path& path, const TilePlan& plan) {
       {"stream", {{"events", plan.stream_events}, {"keyframe_events", plan.stream_keyframe_events}}},
       {"extent_m", extent},
       {"tiles", tiles}};
-  internal::writeJson(path, root);
+  json::writeJsonFile(path, root);
 }
 
 TilePlan readTilePlan(const std::filesystem::path& path) {
-  const nlohmann::json root = internal::readJson(path, "a tile plan written by terramesh tiles plan");
-  const internal::JsonChecked json(path);
+  const nlohmann::json root = json::readJsonFile(path, "a tile plan written by terramesh tiles plan");
+  const json::FieldReader json(path.string());
   json.header(root, kPlanFormat, 1);
   TilePlan plan;
   plan.config.tile_m = json.number(root, "tile_m", "");
@@ -83,10 +83,10 @@ TilePlan readTilePlan(const std::filesystem::path& path) {
   if (!plan.up_W.allFinite() || plan.up_W.norm() < 1e-12) json.fail("up", "expected a finite non-zero vector");
   plan.metres_per_unit = json.number(root, "metres_per_unit", "");
   if (!(plan.metres_per_unit > 0) || !std::isfinite(plan.metres_per_unit)) json.fail("metres_per_unit", "expected > 0");
-  const nlohmann::json& stream = json.field(root, "stream", "");
+  const nlohmann::json& stream = json.member(root, "stream", "");
   plan.stream_events = json.count(stream, "events", "stream");
   plan.stream_keyframe_events = json.count(stream, "keyframe_events", "stream");
-  const nlohmann::json& extent = json.field(root, "extent_m", "");
+  const nlohmann::json& extent = json.member(root, "extent_m", "");
   plan.extent = {json.number(extent, "min_x", "extent_m"), json.number(extent, "min_y", "extent_m"),
                  json.number(extent, "max_x", "extent_m"), json.number(extent, "max_y", "extent_m")};
   const nlohmann::json& tiles = json.array(root, "tiles", "");
@@ -119,7 +119,7 @@ void writeTileRecord(const std::filesystem::path& plan_path, const TileSpec& til
   const nlohmann::json root = {{"format", kRecordFormat}, {"version", 1},       {"index", record.index},
                                {"name", tile.name},       {"revision", record.revision}, {"faces", record.faces},
                                {"levels", levels},        {"files", files}};
-  internal::writeJson(tileDirectory(plan_path, tile) / kRecordName, root);
+  json::writeJsonFile(tileDirectory(plan_path, tile) / kRecordName, root);
 }
 
 TileRecord readTileRecord(const std::filesystem::path& plan_path, const TileSpec& tile) {
@@ -129,8 +129,8 @@ TileRecord readTileRecord(const std::filesystem::path& plan_path, const TileSpec
                                             " has no result yet (run terramesh mesh STREAM --tile PLAN:" +
                                             std::to_string(tile.index) + " --robot R.yaml)");
   }
-  const nlohmann::json root = internal::readJson(path, "a tile result written by terramesh mesh --tile");
-  const internal::JsonChecked json(path);
+  const nlohmann::json root = json::readJsonFile(path, "a tile result written by terramesh mesh --tile");
+  const json::FieldReader json(path.string());
   json.header(root, kRecordFormat, 1);
   TileRecord record;
   record.index = json.count(root, "index", "");

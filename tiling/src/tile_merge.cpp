@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "common/input_error.h"
-#include "json_checked.h"
+#include "common/json_fields.h"
 #include "tiling/tile_files.h"
 #include "traversability/map_directory.h"
 
@@ -161,7 +161,7 @@ MergeReport mergeTiles(const std::filesystem::path& plan_path, const MergeConfig
                     {"levels", levelsJson(overview.level_heights_m, overview.files, overview_folder)},
                     {"files", prefixed(overview.files, overview_folder)}}},
       {"tiles", tiles}};
-  internal::writeJson(plan_path.parent_path() / kIndexName, index);
+  json::writeJsonFile(plan_path.parent_path() / kIndexName, index);
   report.files = prefixed(overview.files, overview_folder);
   report.files.push_back(kIndexName);
   std::sort(report.files.begin(), report.files.end());
