@@ -278,6 +278,18 @@ TEST(EvidenceTest, OnDrivenGroundBridgesAreContradictedButWallsPlacedLaterCount)
     }
     EXPECT_GT(strip, 50u);
     if (wall) EXPECT_GT(blocked, 10u);
+    // The bridge itself, steep and on driven samples: a span the drive contradicts and no
+    // observation supports, so interpolated and uncertain (a guessed wall), not lethal by itself.
+    for (const std::size_t f : {floor_faces, floor_faces + 1}) {
+      EXPECT_EQ(layers[f].evidence, Evidence::kInterpolated) << f;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << f;
+      EXPECT_TRUE(layers[f].reasons & reason::kGuessedWall) << layers[f].reasons;
+    }
+    // The later wall's own faces (SLAM points only) are measured and lethal.
+    for (std::size_t f = floor_faces + 2; wall && f < faces.size(); ++f) {
+      EXPECT_EQ(layers[f].evidence, Evidence::kMeasured) << f;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kLethal) << f;
+    }
   }
 }
 

@@ -33,9 +33,14 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
     relief = 0;
   } else {
     // SLAM points: their noise, plus the relief the span between them can hide; less where rays
-    // crossed the free space in front of the face (nothing stood above it on their way).
+    // crossed the free space in front of the face (nothing stood above it on their way). A steep
+    // face on a driven sample rising more than a step is the mesh bridging the road the robot
+    // drove to something higher (whose own faces show it): the drive contradicts the span, so it
+    // is no measured obstacle. (A lower one may be a curb's riser, which the step judges.)
     const bool observed = f.front_crossings > 0;
-    evidence = observed ? Evidence::kMeasured : Evidence::kInterpolated;
+    const bool bridge = f.driven_vertices > 0 && !(f.normal_L.z() >= cos_max_slope_) &&
+                        f.max_z - f.min_z > profile_.max_step_m;
+    evidence = observed && !bridge ? Evidence::kMeasured : Evidence::kInterpolated;
     relief = g.span_m * (observed ? m.relief_per_m_observed : m.relief_per_m_unobserved);
     // A possible step (uncertain): its step may stand anywhere between its vertices.
     const double rise = f.max_z - f.min_z;
