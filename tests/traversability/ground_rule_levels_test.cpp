@@ -14,6 +14,7 @@
 #include "datasets/slam_simulation.h"
 #include "datasets/synthetic_scene.h"
 #include "datasets/triangle_bvh.h"
+#include "evidence_stream.h"
 #include "mesher/mesher.h"
 #include "test_support/mesh_queries.h"
 #include "traversability/layer_registry.h"
@@ -60,15 +61,7 @@ mesher::TriangleMesh meshGarage(bool with_evidence, const Garage& g = garage(), 
   if (with_evidence) evidence.configureMesher(config);
   mesher::Mesher mesher(config);
   for (const datasets::StreamEvent& event : g.slam.stream.events) {
-    const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
-    const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event);
-    if (with_evidence && keyframe) {
-      evidence.integrate(mesher, *keyframe);
-    } else if (with_evidence && removal) {
-      evidence.removeKeyframe(mesher, removal->keyframe);
-    } else {
-      datasets::applyEvent(mesher, event);
-    }
+    test_stream::applyEvent(mesher, event, with_evidence ? &evidence : nullptr);
   }
   const mesher::InvariantReport report = mesher.checkInvariants();
   EXPECT_TRUE(report.ok()) << report.summary();

@@ -23,6 +23,7 @@
 #include "datasets/slam_simulation.h"
 #include "datasets/synthetic_scene.h"
 #include "datasets/triangle_bvh.h"
+#include "evidence_stream.h"
 #include "mesher/mesher.h"
 #include "test_support/analytic_scenes.h"
 #include "test_support/mesh_queries.h"
@@ -467,15 +468,7 @@ mesher::TriangleMesh meshStreet(bool with_evidence, const TrajectoryEvidenceConf
   mesher::Mesher mesher(mesher_config);
   std::size_t keyframes = 0;
   for (const datasets::StreamEvent& event : s.slam.stream.events) {
-    const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
-    const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event);
-    if (with_evidence && keyframe) {
-      evidence.integrate(mesher, *keyframe);
-    } else if (with_evidence && removal) {
-      evidence.removeKeyframe(mesher, removal->keyframe);
-    } else {
-      datasets::applyEvent(mesher, event);
-    }
+    test_stream::applyEvent(mesher, event, with_evidence ? &evidence : nullptr);
     if (++keyframes % 15 == 0) {
       const mesher::InvariantReport report = mesher.checkInvariants();
       EXPECT_TRUE(report.ok()) << report.summary();
