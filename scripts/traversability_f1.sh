@@ -88,13 +88,16 @@ for seed in "${seeds[@]}"; do
 done
 
 # The robot's swept footprint on each synthetic scene: the map under the camera path, within the
-# footprint's half-width (disc: radius) of it, and how far its free part lies from the truth. The
-# camera height is the one the run's mesh.ply records (its estimate from the data).
+# footprint's half-width (disc: radius) of it, and how far its free part lies from the truth; the
+# share of it the truth does not rule out for the robot (all but ground where the truth says its
+# footprint does not fit: centred off the path, it reaches beyond where the body swept) and the
+# free share of that part. The camera height is the one the
+# run's mesh.ply records (its estimate from the data).
 echo
 echo "## Synthetic scenes: the swept footprint (map under the path, within the robot's half-width)"
 echo
-echo "| scene | robot | free | lethal | unknown | uncertain | free: truth distance median m | p90 m |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| scene | robot | free | lethal | unknown | uncertain | free: truth distance median m | p90 m | truth: robot fits | free where it fits |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
 half_width() {
   awk '/^ *radius_m:/ { r = $2 } /^ *width_m:/ { w = $2 / 2 } END { print (w > 0 ? w : r) }' "$1"
 }
@@ -109,9 +112,10 @@ for seed in "${seeds[@]}"; do
         --road-under-path "$out/$scene/stream.tmstream" \
         --lateral-m "$(half_width "$robot_file")" --report "$out/${scene}_${robot}_swept.txt" --quiet
       awk -v scene="$scene" -v robot="$robot" '{ v[$1] = $2 } END {
-          printf "| %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot, v["road_free_fraction"],
+          printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot, v["road_free_fraction"],
             v["road_lethal_fraction"], v["road_unknown_fraction"], v["road_uncertain_fraction"],
-            v["road_free_truth_distance_median_m"], v["road_free_truth_distance_p90_m"]
+            v["road_free_truth_distance_median_m"], v["road_free_truth_distance_p90_m"],
+            v["road_truth_fits_fraction"], v["road_free_where_truth_fits_fraction"]
         }' "$out/${scene}_${robot}_swept.txt"
     done
   done

@@ -205,9 +205,11 @@ void checkPaths(const std::vector<std::string>& files, const datasets::Similarit
   report << "paths_checked " << files.size() << '\n' << "paths_valid " << valid << '\n';
 }
 
-/// The map against a labelled ground-truth mesh.
-void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::LayeredMesh map,
-                         const traversability::RobotProfile& profile, std::ostream& report) {
+/// The map against a labelled ground-truth mesh; returns the truth judged for the map's robot.
+evaluation::GroundTruthTraversability evaluateAgainstMesh(const TraverseEvalOptions& options,
+                                                          traversability::LayeredMesh map,
+                                                          const traversability::RobotProfile& profile,
+                                                          std::ostream& report) {
   const evaluation::RobotLimits robot = evaluation::robotLimitsFrom(profile);
   const std::string& truth_path = *options.gt_mesh;
   const datasets::LabeledMesh truth = datasets::readLabeledPly(truth_path);
@@ -283,6 +285,7 @@ void evaluateAgainstMesh(const TraverseEvalOptions& options, traversability::Lay
                 score.by_reason[r]);
   }
   if (!options.paths.empty()) checkPaths(options.paths, sim3 ? &*sim3 : nullptr, truth, up, profile, report);
+  return labelled;
 }
 
 /// The keyframe centres and rotations of a stream, by keyframe id (the last pose sent for each;
@@ -330,7 +333,7 @@ void reportGroundUnderPath(const TraverseEvalOptions& options, const traversabil
 
 /// The map's classes on the road under the camera path (real data).
 void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversability::LayeredMesh& map,
-                           std::ostream& report, const mesher::TriangleMesh* truth_m) {
+                           std::ostream& report, const evaluation::GroundTruthTraversability* truth) {
   const std::string& stream_path = *options.road_under_path;
   const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
   std::vector<Eigen::Vector3d> positions;
@@ -353,7 +356,7 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
   config.lateral_m = options.lateral_m;
   config.height_tolerance_m = options.height_tolerance_m;
   config.sample_edge_m = options.sample_edge_m;
-  const evaluation::RoadUnderPath road = evaluation::roadUnderPath(map, positions, up, config, truth_m);
+  const evaluation::RoadUnderPath road = evaluation::roadUnderPath(map, positions, up, config, truth);
   report << "path " << stream_path << '\n'
          << "path_keyframes " << positions.size() << '\n'
          << "path_length_m " << fixed(road.path_length_m, 2) << '\n'
@@ -370,9 +373,12 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
          << "road_unknown_fraction " << fixed(road.unknown_fraction) << '\n'
          << "road_uncertain_fraction " << fixed(road.uncertain_fraction) << '\n';
   reportReasons(report, "road", road.reason_fraction);
-  if (truth_m) {
+  if (truth) {
     report << "road_free_truth_distance_median_m " << fixed(road.free_truth_distance_median_m) << '\n'
-           << "road_free_truth_distance_p90_m " << fixed(road.free_truth_distance_p90_m) << '\n';
+           << "road_free_truth_distance_p90_m " << fixed(road.free_truth_distance_p90_m) << '\n'
+           << "road_truth_fits_fraction " << fixed(road.truth_fits_fraction) << '\n'
+           << "road_free_where_truth_fits_fraction " << fixed(road.free_where_truth_fits_fraction) << '\n';
+    reportAreas(report, "road_truth_fits", road.where_truth_fits);
   }
   if (options.lidar_ground) reportGroundUnderPath(options, map, positions, up, config, report);
 }
@@ -394,7 +400,9 @@ int runTraverseEval(const std::vector<std::string>& args) {
                  "With --road-under-path: the free / lethal / unknown / uncertain shares of the map surface "
                  "within --lateral-m of the keyframe path and --camera-height-m below it (metres via the map's "
                  "metres_per_unit; up from the keyframes' orientations); with --gt-mesh too, also how far the "
-                 "free part lies from the truth (median and 90th percentile).\n"
+                 "free part lies from the truth (median and 90th percentile), and the share the truth does not rule "
+                 "out for the robot (road_truth_fits_fraction: all but ground where its footprint does not fit) "
+                 "with the free share of that part (road_free_where_truth_fits_fraction).\n"
                  "With --path (and --gt-mesh): per path, path_valid FILE 1 if it passes planner_demo's strict "
                  "ground-truth check for the map's robot, else 0 and path_reason FILE the first failure.\n"
                  "With --lidar-ground (and --road-under-path): the measured points in the same band are the "
@@ -422,13 +430,11 @@ int runTraverseEval(const std::vector<std::string>& args) {
   std::ostringstream report;
   report << "map " << dir.string() << '\n' << "map_faces " << loaded.map.mesh.faces.size() << '\n';
   reportRobot(report, robot);
-  if (truth_mode) evaluateAgainstMesh(options, loaded.map, loaded.profile, report);
-  if (road_mode) {
-    // With a truth too: how far the free road under the path lies from the true surface.
-    const std::optional<datasets::LabeledMesh> truth =
-        truth_mode ? std::optional<datasets::LabeledMesh>(datasets::readLabeledPly(*options.gt_mesh)) : std::nullopt;
-    evaluateRoadUnderPath(options, loaded.map, report, truth ? &truth->mesh : nullptr);
-  }
+  std::optional<evaluation::GroundTruthTraversability> truth;
+  if (truth_mode) truth = evaluateAgainstMesh(options, loaded.map, loaded.profile, report);
+  // With a truth too: how far the free road under the path lies from the true surface, and what
+  // the truth says of it for this robot.
+  if (road_mode) evaluateRoadUnderPath(options, loaded.map, report, truth ? &*truth : nullptr);
   if (options.report) writeFileAtomically(*options.report, report.str());
   if (!options.quiet) std::cout << report.str();
   return kExitOk;

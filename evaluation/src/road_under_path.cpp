@@ -122,7 +122,7 @@ Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rot
 
 RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
                             const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config,
-                            const mesher::TriangleMesh* truth_m) {
+                            const GroundTruthTraversability* truth_labels) {
   const MetricPath metric_path = metricPath(map, path_W, up_W, config, "roadUnderPath");
   const Eigen::Vector3d& up = metric_path.up;
   const double scale = map.metres_per_unit;
@@ -133,8 +133,14 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
   mesher::TriangleMesh metric = map.mesh;
   for (Eigen::Vector3d& v : metric.vertices) v *= scale;
   const RefinedMesh pieces = refineMesh(metric, config.sample_edge_m);
+  if (truth_labels && (truth_labels->traversable.size() != truth_labels->mesh.mesh.faces.size() ||
+                       truth_labels->reasons.size() != truth_labels->mesh.mesh.faces.size())) {
+    throw std::invalid_argument("roadUnderPath: the truth has not one answer per face");
+  }
   const std::unique_ptr<datasets::TriangleBvh> truth =
-      truth_m && !truth_m->faces.empty() ? std::make_unique<datasets::TriangleBvh>(*truth_m) : nullptr;
+      truth_labels && !truth_labels->mesh.mesh.faces.empty()
+          ? std::make_unique<datasets::TriangleBvh>(truth_labels->mesh.mesh)
+          : nullptr;
   std::vector<std::pair<double, double>> free_distances;
   std::array<double, traversability::reason::kCount> reason_m2{};
   for (std::size_t p = 0; p < pieces.mesh.faces.size(); ++p) {
@@ -151,15 +157,18 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
       continue;
     }
     addReasons(map.layers[pieces.parent_face[p]].reasons, area, reason_m2);
-    switch (map.layers[pieces.parent_face[p]].face_class) {
-      case traversability::FaceClass::kFree:
-        out.areas.free_m2 += area;
-        if (truth) free_distances.emplace_back(truth->closestPoint(centroid).distance, area);
-        break;
-      case traversability::FaceClass::kLethal: out.areas.lethal_m2 += area; break;
-      case traversability::FaceClass::kUnknown: out.areas.unknown_m2 += area; break;
-      case traversability::FaceClass::kUncertain: out.areas.uncertain_m2 += area; break;
-    }
+    const traversability::FaceClass face_class = map.layers[pieces.parent_face[p]].face_class;
+    out.areas.add(face_class, area);
+    if (!truth) continue;
+    const datasets::SurfacePoint nearest = truth->closestPoint(centroid);
+    if (face_class == traversability::FaceClass::kFree) free_distances.emplace_back(nearest.distance, area);
+    const bool ruled_out = !truth_labels->traversable[nearest.face] &&
+                           truth_labels->reasons[nearest.face] != TruthReason::kNotGround;
+    if (!ruled_out) out.where_truth_fits.add(face_class, area);
+  }
+  if (truth) {
+    out.truth_fits_fraction = ratio(out.where_truth_fits.total(), out.areas.total());
+    out.free_where_truth_fits_fraction = ratio(out.where_truth_fits.free_m2, out.where_truth_fits.total());
   }
   out.free_fraction = ratio(out.areas.free_m2, out.areas.total());
   out.lethal_fraction = ratio(out.areas.lethal_m2, out.areas.total());

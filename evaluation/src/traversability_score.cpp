@@ -15,15 +15,6 @@ namespace {
 
 using traversability::FaceClass;
 
-void add(ClassAreas& areas, FaceClass face_class, double area) {
-  switch (face_class) {
-    case FaceClass::kFree: areas.free_m2 += area; break;
-    case FaceClass::kLethal: areas.lethal_m2 += area; break;
-    case FaceClass::kUnknown: areas.unknown_m2 += area; break;
-    case FaceClass::kUncertain: areas.uncertain_m2 += area; break;
-  }
-}
-
 double ratio(double num, double den) { return den > 0 ? num / den : std::numeric_limits<double>::quiet_NaN(); }
 
 /// The known (or only the free) faces of the map, for the coverage queries.
@@ -52,6 +43,15 @@ double coveredArea(const GroundTruthTraversability& truth, const mesher::Triangl
 }
 
 }  // namespace
+
+void ClassAreas::add(FaceClass face_class, double area) {
+  switch (face_class) {
+    case FaceClass::kFree: free_m2 += area; break;
+    case FaceClass::kLethal: lethal_m2 += area; break;
+    case FaceClass::kUnknown: unknown_m2 += area; break;
+    case FaceClass::kUncertain: uncertain_m2 += area; break;
+  }
+}
 
 void ScoreConfig::validate() const {
   std::ostringstream problems;
@@ -96,12 +96,12 @@ TraversabilityScore scoreTraversability(const traversability::LayeredMesh& map,
     const FaceClass predicted = map.layers[pieces.parent_face[p]].face_class;
     const bool traversable = truth.traversable[nearest.face] != 0;
     score.scored_m2 += area;
-    add(score.by_label[static_cast<std::size_t>(truth.mesh.labels[nearest.face])], predicted, area);
-    add(score.by_truth[traversable ? 1 : 0], predicted, area);
-    add(score.by_label_and_truth[static_cast<std::size_t>(truth.mesh.labels[nearest.face])][traversable ? 1 : 0],
+    score.by_label[static_cast<std::size_t>(truth.mesh.labels[nearest.face])].add(predicted, area);
+    score.by_truth[traversable ? 1 : 0].add(predicted, area);
+    score.by_label_and_truth[static_cast<std::size_t>(truth.mesh.labels[nearest.face])][traversable ? 1 : 0].add(
         predicted, area);
-    add(score.by_reason[static_cast<std::size_t>(truth.reasons[nearest.face])], predicted, area);
-    if (!face_groups.empty()) add(score.by_group[face_groups[pieces.parent_face[p]]][traversable ? 1 : 0], predicted, area);
+    score.by_reason[static_cast<std::size_t>(truth.reasons[nearest.face])].add(predicted, area);
+    if (!face_groups.empty()) score.by_group[face_groups[pieces.parent_face[p]]][traversable ? 1 : 0].add(predicted, area);
     if (predicted == FaceClass::kUnknown) {
       score.unknown_m2 += area;
     } else if (predicted == FaceClass::kUncertain) {

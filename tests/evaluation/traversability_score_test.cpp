@@ -195,6 +195,46 @@ TEST(RoadUnderPath, FractionsOfTheRoadUnderTheCamera) {
   EXPECT_THROW(roadUnderPath(map, {path[0]}, Eigen::Vector3d::UnitZ(), whole), std::invalid_argument);
 }
 
+TEST(RoadUnderPath, TheTruthJudgesTheStripForTheRobot) {
+  // Truth: road over [0, 4] x [0, 4]; for x > 2 a ceiling 0.15 m over it (under the step, so only
+  // the clearance rule sees it): ground the robot does not fit on. Map on it: free for x < 2
+  // except the uncertain square [1, 2] x [1, 2], lethal beyond. The path runs along x = 2 from
+  // y = 1 to 3, 1.65 m up; its strip (1 m each side, half-discs at the ends) is half where the
+  // robot fits.
+  LabeledMesh low_ceiling;
+  test::addFloor(low_ceiling, 0, 4, 0, 4, 0, SurfaceLabel::kRoad);
+  test::addFloor(low_ceiling, 2, 4, 0, 4, 0.15, SurfaceLabel::kCeiling);
+  const GroundTruthTraversability truth =
+      labelTraversability(low_ceiling, RobotLimits{}, Eigen::Vector3d::UnitZ(), GroundTruthConfig{});
+  const LayeredMesh map = gridMap(0.0, [](double x, double y) {
+    if (x >= 2) return FaceClass::kLethal;
+    return x > 1 && y > 1 && y < 2 ? FaceClass::kUncertain : FaceClass::kFree;
+  });
+  const std::vector<Eigen::Vector3d> path = {{2, 1, 1.65}, {2, 3, 1.65}};
+  RoadUnderPathConfig config;
+  config.lateral_m = 1.0;
+  const RoadUnderPath road = roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), config, &truth);
+  const double half_strip_m2 = 2.0 + 0.5 * M_PI;
+  EXPECT_NEAR(road.truth_fits_fraction, 0.5, 0.03);
+  EXPECT_NEAR(road.where_truth_fits.total(), half_strip_m2, 0.1);
+  EXPECT_NEAR(road.where_truth_fits.uncertain_m2, 1.0, 1e-9);
+  EXPECT_NEAR(road.where_truth_fits.lethal_m2, 0.0, 1e-12);
+  EXPECT_NEAR(road.free_where_truth_fits_fraction, (half_strip_m2 - 1.0) / half_strip_m2, 0.03);
+  // The whole strip's free share also counts the lethal half where the robot does not fit.
+  EXPECT_NEAR(road.free_fraction, 0.5 * road.free_where_truth_fits_fraction, 0.03);
+  // Where the truth has no ground (obstacle tops for x > 2), the robot drove over what the truth
+  // does not rule out: the whole strip stays in.
+  const GroundTruthTraversability obstacle = halfRoadTruth();
+  const RoadUnderPath on_obstacle = roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), config, &obstacle);
+  EXPECT_NEAR(on_obstacle.truth_fits_fraction, 1.0, 1e-12);
+  EXPECT_NEAR(on_obstacle.free_where_truth_fits_fraction, on_obstacle.free_fraction, 1e-12);
+  // Without a truth there is no judgement.
+  const RoadUnderPath alone = roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), config);
+  EXPECT_TRUE(std::isnan(alone.truth_fits_fraction));
+  EXPECT_TRUE(std::isnan(alone.free_where_truth_fits_fraction));
+  EXPECT_NEAR(alone.free_fraction, road.free_fraction, 1e-12);
+}
+
 TEST(GroundUnderPath, MeasuredGroundUnderThePathTakesTheMapFaceOverIt) {
   // Map in units of 0.5 m, 1.65 m below a camera path along x from 5 to 15 m: free for y < 0,
   // lethal for y >= 0, with a hole at 10 <= x < 11; measured ground 0.05 m under it every 0.1 m

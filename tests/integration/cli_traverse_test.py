@@ -257,6 +257,18 @@ class StreetTest(TempDirCase):
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("--lidar-ground and --lidar-sim3 need --road-under-path", result.stderr)
 
+        # --gt-mesh with --road-under-path: the truth judges the swept strip for the map's robot
+        # (the small robot fits on the generator's road under the path); the free part where it
+        # fits is part of the strip's free area.
+        result = run("traverse-eval", out, "--gt-mesh", truth, "--road-under-path", stream, "--lateral-m", "0.34",
+                     "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(report) as f:
+            values = dict(line.split(" ", 1) for line in f.read().splitlines())
+        self.assertGreater(float(values["road_truth_fits_fraction"]), 0.95)
+        self.assertLessEqual(float(values["road_truth_fits_free_m2"]), float(values["road_free_m2"]))
+        self.assertGreater(float(values["road_free_where_truth_fits_fraction"]), 0.5)
+
 
 class GarageTest(TempDirCase):
     def test_two_floors_give_two_levels(self):

@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "evaluation/ground_truth_traversability.h"
 #include "evaluation/traversability_score.h"
 #include "traversability/layer_registry.h"
 #include "traversability/layered_mesh.h"
@@ -47,6 +48,16 @@ struct RoadUnderPath {
   /// median and 90th percentile, area-weighted; NaN without a truth or with no free piece.
   double free_truth_distance_median_m = std::numeric_limits<double>::quiet_NaN();
   double free_truth_distance_p90_m = std::numeric_limits<double>::quiet_NaN();
+  /// With a labelled truth: the pieces the truth does not rule out for the robot, per predicted
+  /// class, their share of areas.total(), and the free share of them (NaN without a truth or with
+  /// nothing there). A piece is ruled out when its nearest truth face is ground that the truth
+  /// calls not traversable for the robot (a step, a curb or a wall within the footprint, too steep,
+  /// too low): a footprint centred off the path reaches beyond where the body swept. A piece
+  /// nearest a non-ground truth face stays in: the robot drove there, so the map drew a wall or a
+  /// ceiling where the road is.
+  ClassAreas where_truth_fits;
+  double truth_fits_fraction = std::numeric_limits<double>::quiet_NaN();
+  double free_where_truth_fits_fraction = std::numeric_limits<double>::quiet_NaN();
   /// Length of the path, in metres.
   double path_length_m = 0;
 };
@@ -94,12 +105,13 @@ Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rot
 /// Classes of the map surface under the polyline `path_W` (camera centres in driving order, in
 /// the map's units and frame): pieces whose centroid is within lateral_m horizontally of the
 /// polyline and between camera_height_m -/+ height_tolerance_m below the nearest path point.
-/// Distances are converted to metres with map.metres_per_unit; "up" is `up_W`. With `truth_m` (a
-/// surface in metres, in the map's frame), how far the free pieces lie from it.
+/// Distances are converted to metres with map.metres_per_unit; "up" is `up_W`. With `truth` (the
+/// truth judged for the map's robot, in metres, in the map's frame), how far the free pieces lie
+/// from its surface, and each piece judged by the truth at its nearest truth face.
 /// @throw std::invalid_argument if the config does not validate, the path has fewer than 2
 ///        points, `up_W` is zero, or the map has not one layer per face.
 RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::vector<Eigen::Vector3d>& path_W,
                             const Eigen::Vector3d& up_W, const RoadUnderPathConfig& config,
-                            const mesher::TriangleMesh* truth_m = nullptr);
+                            const GroundTruthTraversability* truth = nullptr);
 
 }  // namespace terramesh::evaluation

@@ -18,6 +18,8 @@ struct ClassAreas {
   double unknown_m2 = 0;
   double uncertain_m2 = 0;
   double total() const { return free_m2 + lethal_m2 + unknown_m2 + uncertain_m2; }
+  /// Adds `area` (m^2) to the total of `face_class`.
+  void add(traversability::FaceClass face_class, double area);
 };
 
 /// How a map is scored against the ground truth.
