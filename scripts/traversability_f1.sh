@@ -91,8 +91,8 @@ done
 # footprint's half-width (disc: radius) of it, and how far its free part lies from the truth; the
 # share of it the truth does not rule out for the robot (all but ground where the truth says its
 # footprint does not fit: centred off the path, it reaches beyond where the body swept) and the
-# free share of that part. The camera height is the one the
-# run's mesh.ply records (its estimate from the data).
+# free share of that part. The camera height is the one the run's mesh.ply records (its estimate
+# from the data).
 echo
 echo "## Synthetic scenes: the swept footprint (map under the path, within the robot's half-width)"
 echo

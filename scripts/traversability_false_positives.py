@@ -28,7 +28,9 @@ Prints area in m^2 and fractions of the false-positive area per cause. With --sw
 generator's trajectory.txt, the robot's half-width, the camera height, default 1.65 m), also the
 robot's swept strip: the map within LATERAL_M of the camera path, CAMERA_HEIGHT_M +- 0.5 m below
 it (traverse-eval --road-under-path's strip), how much of it the truth calls traversable for the
-robot, and per map class the truth-traversable share. python3 + numpy + scipy.
+robot, and per map class the truth-traversable share (approximate, as above; `terramesh
+traverse-eval MAP --gt-mesh GT --road-under-path STREAM` reports the exact share where the robot
+fits, road_truth_fits_fraction). python3 + numpy + scipy.
 """
 import math
 import os
