@@ -28,6 +28,12 @@ inline Projection projectionOf(const StoredFace& f) {
   return {{f.p_L[0].head<2>(), f.p_L[1].head<2>(), f.p_L[2].head<2>()}, f.box_min, f.box_max};
 }
 
+/// Face s of `store` as a change (as it is now).
+inline Change changeOf(const SurfaceStore& store, Slot s) {
+  const SampleGeometry& g = store.geometry(s);
+  return {projectionOf(store.face(s)), store.bounds(s), g.sampleable, g.sampleable && g.driven};
+}
+
 /// The point of segment ab closest to q.
 inline Eigen::Vector2d closestPointOnSegment(const Eigen::Vector2d& q, const Eigen::Vector2d& a,
                                              const Eigen::Vector2d& b) {

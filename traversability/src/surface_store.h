@@ -74,6 +74,9 @@ struct StoredFace {
   /// vertices and the measured points of edge neighbours on its plane confirm it (infinite for
   /// walls and level faces).
   float slope_extent_m = std::numeric_limits<float>::infinity();
+  /// Set by the footprint stage: the face is known (not closing geometry, enough rays) and lethal
+  /// by its local layers; the inflation's sources.
+  bool lethal = false;
 
   /// Height of the face's plane at horizontal position (x, y), if (x, y) lies in the face's
   /// horizontal projection and the face is not vertical.

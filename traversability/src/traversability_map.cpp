@@ -10,23 +10,18 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "common/graph_search.h"
 #include "common/plan_frame.h"
 #include "face_projection.h"
 #include "layer_computer.h"
+#include "layer_stages.h"
 #include "surface_store.h"
-#include "unconfirmed_points.h"
 
 namespace terramesh::traversability {
 namespace {
 
-using internal::Change;
-using internal::Projection;
 using internal::Slot;
 using internal::StoredFace;
 using internal::SurfaceStore;
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Rotation taking map-frame directions into L, where up_W becomes +z.
 Eigen::Matrix3d levelRotation(const Eigen::Vector3d& up_W) {
@@ -68,142 +63,31 @@ class TraversabilityMap::Impl {
         frame_(frame),
         computer_(profile),
         store_(levelRotation(frame.up_W), frame.metres_per_unit, gridCellM(profile), centroidCellM(profile)),
-        unconfirmed_(levelRotation(frame.up_W), frame.metres_per_unit, computer_.unconfirmedReachM() + 1e-3) {
-    computer_.setUnconfirmedPoints(&unconfirmed_);
-  }
+        pipeline_(internal::makeLayerPipeline(computer_, profile, levelRotation(frame.up_W), frame.metres_per_unit,
+                                              footprint_)) {}
 
   /// Replaces the unconfirmed points; the faces they reach are re-judged by the next apply()
   /// (or all of them by reset()). Returns whether any point changed.
   bool replaceUnconfirmed(const std::vector<mesher::UnconfirmedPoint>& points) {
-    const std::size_t before = point_changes_.size();
-    unconfirmed_.replace(points, point_changes_);
-    return point_changes_.size() != before;
+    return footprint_->replaceUnconfirmed(points);
   }
-  std::size_t unconfirmedCount() const { return unconfirmed_.size(); }
+  std::size_t unconfirmedCount() const { return footprint_->unconfirmedCount(); }
   void setDrivePoses(DrivePoseLookup lookup) { drive_poses_ = std::move(lookup); }
 
   LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces) {
     const auto start = std::chrono::steady_clock::now();
-    point_changes_.clear();
     store_.clear();
-    distance_.clear();
-    lethal_.clear();
+    pipeline_.resize(0);
     for (const mesher::SurfaceFace& face : faces) store_.setDrive(store_.add(face), drive_poses_);
-    grow();
-    std::vector<Slot> all;
-    for (Slot s = 0; s < store_.slotCount(); ++s) {
-      if (!store_.face(s).alive) continue;
-      all.push_back(s);
-      computer_.setEvidence(store_, s);
-      window_[s] = computer_.groundWindow(store_.face(s));
-    }
-    for (Slot s : all) computeLocalAndLethal(s);
-    fullInflation();
-    for (Slot s : all) finish(s);
+    pipeline_.resize(store_.slotCount());
+    pipeline_.computeAll(store_);
     LayerUpdateStats stats;
-    stats.faces_added = all.size();
-    stats.faces_recomputed = all.size();
+    stats.faces_added = store_.size();
+    stats.faces_recomputed = store_.size();
     stats.faces_total = store_.size();
     stats.full_rebuild = true;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
-  }
-
-  /// Face s as a change (added, removed or re-judged).
-  Change changeOf(Slot s) const {
-    const internal::SampleGeometry& g = store_.geometry(s);
-    return {internal::projectionOf(store_.face(s)), store_.bounds(s), g.sampleable, g.sampleable && g.driven};
-  }
-
-  /// The first step of apply(): removes and adds the delta's faces and re-reads the observation
-  /// counts of churned faces and of `around`. Fills the scratch lists apply() reads: change
-  /// points, changed faces, edge neighbours of the faces added and removed, re-observed and
-  /// re-evidenced faces, faces added.
-  void replaceFaces(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around,
-                    LayerUpdateStats& stats) {
-    // Centroids (L) of the changes the inflation must see: faces added, faces removed that were
-    // within the inflation radius of a lethal face (a face at no finite distance lies on no
-    // shortest path, so removing it changes no distance), faces re-judged lethal or not.
-    std::vector<Eigen::Vector3d>& change_points = change_points_;
-    change_points.clear();
-    std::vector<Change>& changed = changed_;  // the faces added and removed
-    changed.clear();
-    std::vector<Slot>& edge_neighbours = edge_neighbours_;  // of the faces added and removed
-    edge_neighbours.clear();
-    const auto removeKey = [&](const mesher::FaceKey& key) {
-      const std::optional<Slot> slot = store_.find(key);
-      if (!slot) return false;
-      const bool had_distance = std::isfinite(distance_[*slot]);
-      changed.push_back(changeOf(*slot));
-      if (had_distance) change_points.push_back(store_.centroid(*slot));
-      // Its edge neighbours' rise confirmation read its vertices (LayerComputer::riseConfirmed).
-      store_.neighbours(*slot, scratch_neighbours_);
-      edge_neighbours.insert(edge_neighbours.end(), scratch_neighbours_.begin(), scratch_neighbours_.end());
-      lethal_[*slot] = 0;
-      distance_[*slot] = kInf;
-      store_.removeSlot(*slot);
-      return true;
-    };
-    // Churn: a face removed and re-added with the same vertices and positions changes nothing
-    // but (maybe) its observation counts, which are re-read like the counts of `around`. A face
-    // whose evidence changes with them (rays now cross the space in front of it, or no longer do)
-    // changes what the faces around it may stand on or meet: it counts as a change.
-    std::vector<Slot>& reobserved = reobserved_;
-    reobserved.clear();
-    std::vector<Slot>& reevidenced = reevidenced_;
-    reevidenced.clear();
-    const auto setRays = [&](Slot s, const mesher::SurfaceFace& face) {
-      StoredFace& f = store_.face(s);
-      if (f.rays == face.rays && f.front_crossings == face.front_crossings && f.view_sides == face.view_sides) return;
-      f.rays = face.rays;
-      f.layers.rays = face.rays;
-      f.front_crossings = face.front_crossings;
-      f.view_sides = face.view_sides;
-      if (computer_.setEvidence(store_, s)) {
-        reevidenced.push_back(s);
-        change_points.push_back(f.centroid_L);
-        changed.push_back(changeOf(s));
-      } else {
-        reobserved.push_back(s);
-      }
-    };
-    std::unordered_set<mesher::FaceKey>& unchanged = unchanged_;
-    unchanged.clear();
-    for (const mesher::SurfaceFace& face : delta.added) {
-      const std::optional<Slot> s = store_.find(face.key);
-      if (!s || !sameGeometry(store_.face(*s), face)) continue;
-      unchanged.insert(face.key);
-      setRays(*s, face);
-    }
-    stats.faces_readded_unchanged = unchanged.size();
-    for (const mesher::FaceKey& key : delta.removed) {
-      stats.faces_removed += (!unchanged.empty() && unchanged.count(key) != 0) || removeKey(key) ? 1 : 0;
-    }
-    std::vector<Slot>& added = added_;
-    added.clear();
-    for (const mesher::SurfaceFace& face : delta.added) {
-      if (!unchanged.empty() && unchanged.count(face.key) != 0) {
-        ++stats.faces_added;
-        continue;
-      }
-      removeKey(face.key);  // then add() finds no face with its key
-      const Slot s = store_.add(face);
-      store_.setDrive(s, drive_poses_);
-      grow();
-      lethal_[s] = 0;
-      distance_[s] = kInf;
-      computer_.setEvidence(store_, s);
-      const StoredFace& f = store_.face(s);
-      window_[s] = computer_.groundWindow(f);
-      added.push_back(s);
-      change_points.push_back(f.centroid_L);
-      changed.push_back(changeOf(s));
-    }
-    stats.faces_added += added.size();
-    for (const mesher::SurfaceFace& face : around) {
-      if (const std::optional<Slot> s = store_.find(face.key)) setRays(*s, face);
-    }
-    stats.faces_reobserved = reobserved.size() + reevidenced.size();
   }
 
   LayerUpdateStats apply(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around) {
@@ -212,92 +96,11 @@ class TraversabilityMap::Impl {
     }
     const auto start = std::chrono::steady_clock::now();
     LayerUpdateStats stats;
+    changes_.clear();
     replaceFaces(delta, around, stats);
-    std::vector<Eigen::Vector3d>& change_points = change_points_;
-    std::vector<Change>& changed = changed_;
-    std::vector<Slot>& edge_neighbours = edge_neighbours_;
-    const std::vector<Slot>& reobserved = reobserved_;
-    const std::vector<Slot>& reevidenced = reevidenced_;
-    const std::vector<Slot>& added = added_;
-
-    // Local layers: every face whose footprint disc or clearance column meets a changed face that
-    // can be its ground, an obstacle in its footprint or its ceiling (LayerComputer::mayAffect).
-    const double reach = computer_.maxReachM() * (1 + 1e-9) + 1e-6;
-    const std::uint32_t epoch = nextEpoch();
-    std::vector<Slot>& dirty = dirty_;
-    dirty.clear();
-    const auto markDirty = [&](Slot s) {
-      if (mark_[s] == epoch) return;
-      mark_[s] = epoch;
-      dirty.push_back(s);
-    };
-    for (Slot s : added) markDirty(s);
-    for (Slot s : reevidenced) {
-      if (store_.face(s).alive) markDirty(s);
-    }
-    const std::size_t added_dirty = dirty.size();
-    for (Slot s : added) {
-      store_.neighbours(s, scratch_neighbours_);
-      edge_neighbours.insert(edge_neighbours.end(), scratch_neighbours_.begin(), scratch_neighbours_.end());
-    }
-    // A possible step's relief reads its edge neighbours' vertices (LayerComputer::setEvidence):
-    // set it again now that every face of the delta is in; an edge neighbour whose relief changed
-    // changes what the footprints sampling it may meet.
-    for (Slot s : added) {
-      if (computer_.evidenceReadsNeighbours(store_.face(s))) computer_.setEvidence(store_, s);
-    }
-    for (Slot s : edge_neighbours) {
-      if (!store_.face(s).alive) continue;
-      markDirty(s);
-      if (computer_.evidenceReadsNeighbours(store_.face(s)) && computer_.setEvidence(store_, s)) {
-        changed.push_back(changeOf(s));
-        change_points.push_back(store_.centroid(s));
-      }
-    }
-    for (const Change& change : changed) {
-      const Projection& p = change.projection;
-      const double box = change.driven ? std::sqrt(2.0) * reach : reach;  // see readsDrivenGround
-      const Eigen::Vector2d r(box, box);
-      store_.forEachCentroidInBox(p.lo - r, p.hi + r, [&](Slot s) {
-        if (mark_[s] == epoch) return;
-        const Eigen::Vector3d& c = store_.centroid(s);
-        const double distance = internal::distanceToTriangle(c.head<2>(), p);
-        if ((distance <= reach && computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) ||
-            (change.driven && distance <= box &&
-             computer_.readsDrivenGround(store_.face(s), window_[s], change.bounds, distance))) {
-          markDirty(s);
-        }
-      });
-    }
-    markNearUnconfirmedChanges(epoch, markDirty);
-    // The faces added come first in `dirty` (added_dirty of them); they are change points already.
-    for (std::size_t i = 0; i < dirty.size(); ++i) {
-      const Slot s = dirty[i];
-      const char was_lethal = lethal_[s];
-      computeLocalAndLethal(s);
-      if (i >= added_dirty && lethal_[s] != was_lethal) change_points.push_back(store_.centroid(s));
-    }
-    for (Slot s : reobserved) {
-      if (mark_[s] == epoch) continue;
-      const char was_lethal = lethal_[s];
-      lethal_[s] = isLethal(s);
-      if (lethal_[s] != was_lethal) change_points.push_back(store_.centroid(s));
-      markDirty(s);
-    }
-
-    // Inflation: every face within the inflation radius of a change may have a new distance.
-    const std::vector<Slot>& region = localInflation(change_points);
-    const std::uint32_t finish_epoch = nextEpoch();
-    std::size_t recomputed = 0;
-    for (const std::vector<Slot>* list : {static_cast<const std::vector<Slot>*>(&dirty), &region}) {
-      for (Slot s : *list) {
-        if (mark_[s] == finish_epoch || !store_.face(s).alive) continue;
-        mark_[s] = finish_epoch;
-        finish(s);
-        ++recomputed;
-      }
-    }
-    stats.faces_recomputed = recomputed;
+    pipeline_.update(store_, changes_);
+    stats.faces_reobserved = changes_.recounted.size();
+    stats.faces_recomputed = changes_.classified;
     stats.faces_total = store_.size();
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
@@ -346,117 +149,67 @@ class TraversabilityMap::Impl {
   }
 
  private:
-  /// Marks (markDirty) every face whose body holds, or held, an unconfirmed point added, removed
-  /// or moved since the last update (LayerComputer::unconfirmedInBody), and forgets those changes.
-  template <class Mark>
-  void markNearUnconfirmedChanges(std::uint32_t epoch, Mark&& markDirty) {
-    const double reach = computer_.unconfirmedReachM() * (1 + 1e-9) + 1e-6;
-    const Eigen::Vector2d r(reach, reach);
-    for (const Eigen::Vector3d& p : point_changes_) {
-      store_.forEachInBox(p.head<2>() - r, p.head<2>() + r, [&](Slot s) {
-        if (mark_[s] != epoch && computer_.unconfirmedInBody(store_.face(s), p)) markDirty(s);
-      });
+  /// The store's part of apply(): removes and adds the delta's faces and re-reads the observation
+  /// counts of faces kept (the delta's churn and `around`), recording in changes_ what the stages
+  /// read: faces added, faces removed (as changes), their edge neighbours, faces recounted.
+  void replaceFaces(const mesher::SurfaceDelta& delta, const std::vector<mesher::SurfaceFace>& around,
+                    LayerUpdateStats& stats) {
+    const auto removeKey = [&](const mesher::FaceKey& key) {
+      const std::optional<Slot> slot = store_.find(key);
+      if (!slot) return false;
+      changes_.shapes.push_back(internal::changeOf(store_, *slot));
+      store_.neighbours(*slot, scratch_neighbours_);
+      changes_.edge_neighbours.insert(changes_.edge_neighbours.end(), scratch_neighbours_.begin(),
+                                      scratch_neighbours_.end());
+      pipeline_.removing(store_, *slot, changes_);
+      store_.removeSlot(*slot);
+      return true;
+    };
+    const auto recount = [&](Slot s, const mesher::SurfaceFace& face) {
+      StoredFace& f = store_.face(s);
+      if (f.rays == face.rays && f.front_crossings == face.front_crossings && f.view_sides == face.view_sides) return;
+      f.rays = face.rays;
+      f.layers.rays = face.rays;
+      f.front_crossings = face.front_crossings;
+      f.view_sides = face.view_sides;
+      changes_.recounted.push_back(s);
+    };
+    // Churn: a face removed and re-added with the same vertices and positions changes nothing
+    // but (maybe) its observation counts.
+    std::unordered_set<mesher::FaceKey>& unchanged = unchanged_;
+    unchanged.clear();
+    for (const mesher::SurfaceFace& face : delta.added) {
+      const std::optional<Slot> s = store_.find(face.key);
+      if (!s || !sameGeometry(store_.face(*s), face)) continue;
+      unchanged.insert(face.key);
+      recount(*s, face);
     }
-    point_changes_.clear();
-  }
-
-  void grow() {
-    distance_.resize(store_.slotCount(), kInf);
-    lethal_.resize(store_.slotCount(), 0);
-    mark_.resize(store_.slotCount(), 0);
-    window_.resize(store_.slotCount());
-  }
-
-  std::uint32_t nextEpoch() {
-    if (++epoch_ == 0) {
-      std::fill(mark_.begin(), mark_.end(), 0u);
-      epoch_ = 1;
+    stats.faces_readded_unchanged = unchanged.size();
+    for (const mesher::FaceKey& key : delta.removed) {
+      stats.faces_removed += (!unchanged.empty() && unchanged.count(key) != 0) || removeKey(key) ? 1 : 0;
     }
-    return epoch_;
-  }
-
-  void computeLocalAndLethal(Slot s) {
-    computer_.computeLocal(store_, s);
-    lethal_[s] = isLethal(s);
-  }
-
-  /// Known and lethal, from the face's current local layers.
-  char isLethal(Slot s) const {
-    const StoredFace& f = store_.face(s);
-    const bool known = !f.steiner && f.rays >= static_cast<std::uint32_t>(profile_.min_rays);
-    return known && computer_.lethal(f) ? 1 : 0;
-  }
-
-  void finish(Slot s) {
-    StoredFace& f = store_.face(s);
-    f.layers.lethal_distance_m = static_cast<float>(distance_[s]);
-    computer_.classify(f);
-  }
-
-  double edgeM(Slot a, Slot b) const { return (store_.centroid(a) - store_.centroid(b)).norm(); }
-
-  /// Dijkstra from the heap's faces, relaxing only faces for which `inside` holds; distances
-  /// beyond the inflation radius are not kept.
-  template <class Inside>
-  void dijkstra(graph::CostHeap& heap, Inside&& inside) {
-    graph::boundedDijkstra(
-        heap, [&](Slot s) -> double& { return distance_[s]; },
-        [&](Slot s, const auto& relax) {
-          store_.neighbours(s, scratch_);
-          for (Slot t : scratch_) {
-            if (inside(t)) relax(t, edgeM(s, t));
-          }
-        },
-        profile_.inflation_radius_m);
-  }
-
-  void fullInflation() {
-    graph::CostHeap& heap = heap_;
-    for (Slot s = 0; s < store_.slotCount(); ++s) {
-      distance_[s] = kInf;
-      if (store_.face(s).alive && lethal_[s]) {
-        distance_[s] = 0;
-        graph::pushCost(heap, 0.0, s);
-      }
-    }
-    dijkstra(heap, [](Slot) { return true; });
-  }
-
-  /// Recomputes the distances of the faces within the inflation radius (straight-line, a lower
-  /// bound of the geodesic one) of a change, seeded by their lethal faces and by the unchanged
-  /// distances of the faces around them. Returns the faces recomputed (a member, valid until the
-  /// next call).
-  const std::vector<Slot>& localInflation(const std::vector<Eigen::Vector3d>& change_points) {
-    const double r = profile_.inflation_radius_m * (1 + 1e-9) + 1e-9;
-    const std::uint32_t epoch = nextEpoch();
-    std::vector<Slot>& region = region_;
-    region.clear();
-    for (const Eigen::Vector3d& p : change_points) {
-      const Eigen::Vector2d h = p.head<2>(), rr(r, r);
-      store_.forEachCentroidInBox(h - rr, h + rr, [&](Slot s) {
-        if (mark_[s] == epoch || (store_.centroid(s) - p).norm() > r) return;
-        mark_[s] = epoch;
-        region.push_back(s);
-      });
-    }
-    graph::CostHeap& heap = heap_;
-    for (Slot s : region) distance_[s] = kInf;
-    for (Slot s : region) {
-      if (lethal_[s]) {
-        distance_[s] = 0;
-        graph::pushCost(heap, 0.0, s);
+    for (const mesher::SurfaceFace& face : delta.added) {
+      if (!unchanged.empty() && unchanged.count(face.key) != 0) {
+        ++stats.faces_added;
         continue;
       }
-      store_.neighbours(s, scratch_);
-      for (Slot b : scratch_) {
-        if (mark_[b] == epoch || !std::isfinite(distance_[b])) continue;
-        const double nd = distance_[b] + edgeM(b, s);
-        if (nd <= profile_.inflation_radius_m && nd < distance_[s]) distance_[s] = nd;
-      }
-      if (std::isfinite(distance_[s])) graph::pushCost(heap, distance_[s], s);
+      removeKey(face.key);  // then add() finds no face with its key
+      const Slot s = store_.add(face);
+      store_.setDrive(s, drive_poses_);
+      pipeline_.resize(store_.slotCount());
+      changes_.added.push_back(s);
+      changes_.shapes.push_back(internal::changeOf(store_, s));
+      changes_.lethal_changes.push_back(store_.centroid(s));
     }
-    dijkstra(heap, [&](Slot t) { return mark_[t] == epoch; });
-    return region;
+    stats.faces_added += changes_.added.size();
+    for (Slot s : changes_.added) {
+      store_.neighbours(s, scratch_neighbours_);
+      changes_.edge_neighbours.insert(changes_.edge_neighbours.end(), scratch_neighbours_.begin(),
+                                      scratch_neighbours_.end());
+    }
+    for (const mesher::SurfaceFace& face : around) {
+      if (const std::optional<Slot> s = store_.find(face.key)) recount(*s, face);
+    }
   }
 
   RobotProfile profile_;
@@ -464,24 +217,13 @@ class TraversabilityMap::Impl {
   DrivePoseLookup drive_poses_;
   internal::LayerComputer computer_;
   SurfaceStore store_;
-  std::vector<double> distance_;  ///< per slot, geodesic metres to the nearest lethal face
-  std::vector<char> lethal_;      ///< per slot
-  std::vector<std::uint32_t> mark_;
-  std::uint32_t epoch_ = 0;
-  /// Per slot, the height window of the face's ground candidates (LayerComputer::groundWindow).
-  std::vector<internal::LayerComputer::GroundWindow> window_;
-  std::vector<Slot> scratch_;
-  // Scratch of apply(), kept to reuse their memory.
-  std::vector<Eigen::Vector3d> change_points_;
-  std::vector<Change> changed_;
-  std::vector<Slot> reobserved_, reevidenced_, added_, dirty_, region_, edge_neighbours_, scratch_neighbours_;
+  /// The footprint stage of pipeline_ (which owns it).
+  internal::FootprintStage* footprint_ = nullptr;
+  internal::LayerPipeline pipeline_;
+  /// What apply() changed, as it travels through the stages; kept to reuse the lists' memory.
+  internal::StageChanges changes_;
+  std::vector<Slot> scratch_neighbours_;
   std::unordered_set<mesher::FaceKey> unchanged_;
-  /// The inflation's heap, kept between updates for its storage.
-  graph::CostHeap heap_;
-  /// The mesher's points not in the mesh (possible obstacles), and the positions (L) where they
-  /// changed since the last apply().
-  internal::UnconfirmedPoints unconfirmed_;
-  std::vector<Eigen::Vector3d> point_changes_;
 };
 
 TraversabilityMap::TraversabilityMap(const RobotProfile& profile, const MapFrame& frame) {

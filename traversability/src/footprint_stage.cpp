@@ -1,0 +1,114 @@
+// The footprint stage (layer_stages.h): the local layers of every face a change may reach.
+#include <cmath>
+
+#include "layer_stages.h"
+
+namespace terramesh::traversability::internal {
+
+FootprintStage::FootprintStage(LayerComputer& computer, const RobotProfile& profile, const Eigen::Matrix3d& R_L_W,
+                               double metres_per_unit)
+    : computer_(computer),
+      min_rays_(static_cast<std::uint32_t>(profile.min_rays)),
+      // Driven ground is read up to a box of half-side the obstacle reach (readsDrivenGround).
+      declaration_{"footprint",
+                   {"geometry", "rays", "evidence", "height_uncertainty_m", "drive", "unconfirmed_points"},
+                   {"slope_deg", "step_m", "roughness_m", "contact", "contact_best", "clearance_m", "heading_fits",
+                    "footprint_fits", "lethal"},
+                   {StageReach::Kind::kHorizontal, std::sqrt(2.0) * computer.maxReachM()}},
+      unconfirmed_(R_L_W, metres_per_unit, computer.unconfirmedReachM() + 1e-3) {
+  computer_.setUnconfirmedPoints(&unconfirmed_);
+}
+
+bool FootprintStage::replaceUnconfirmed(const std::vector<mesher::UnconfirmedPoint>& points) {
+  const std::size_t before = point_changes_.size();
+  unconfirmed_.replace(points, point_changes_);
+  return point_changes_.size() != before;
+}
+
+void FootprintStage::resize(std::size_t slots) {
+  window_.resize(slots);
+  marks_.resize(slots);
+}
+
+bool FootprintStage::isLethal(const StoredFace& f) const {
+  const bool known = !f.steiner && f.rays >= min_rays_;
+  return known && computer_.lethal(f);
+}
+
+void FootprintStage::judge(SurfaceStore& store, Slot s) const {
+  computer_.computeLocal(store, s);
+  StoredFace& f = store.face(s);
+  f.lethal = isLethal(f);
+}
+
+void FootprintStage::computeAll(SurfaceStore& store) {
+  point_changes_.clear();
+  for (Slot s = 0; s < store.slotCount(); ++s) {
+    if (store.face(s).alive) window_[s] = computer_.groundWindow(store.face(s));
+  }
+  for (Slot s = 0; s < store.slotCount(); ++s) {
+    if (store.face(s).alive) judge(store, s);
+  }
+}
+
+void FootprintStage::markNearUnconfirmedChanges(const SurfaceStore& store) {
+  const double reach = computer_.unconfirmedReachM() * (1 + 1e-9) + 1e-6;
+  const Eigen::Vector2d r(reach, reach);
+  for (const Eigen::Vector3d& p : point_changes_) {
+    store.forEachInBox(p.head<2>() - r, p.head<2>() + r, [&](Slot s) {
+      if (!marks_.marked(s) && computer_.unconfirmedInBody(store.face(s), p)) markDirty(s);
+    });
+  }
+  point_changes_.clear();
+}
+
+void FootprintStage::update(SurfaceStore& store, StageChanges& changes) {
+  for (Slot s : changes.added) window_[s] = computer_.groundWindow(store.face(s));
+  const double reach = computer_.maxReachM() * (1 + 1e-9) + 1e-6;
+  marks_.next();
+  dirty_ = &changes.rejudged;
+  for (Slot s : changes.added) markDirty(s);
+  for (Slot s : changes.reevidenced) markDirty(s);
+  const std::size_t added_dirty = changes.rejudged.size();
+  for (Slot s : changes.edge_neighbours) {
+    if (store.face(s).alive) markDirty(s);
+  }
+  // Every face whose footprint disc or clearance column meets a changed face that can be its
+  // ground, an obstacle in its footprint or its ceiling.
+  for (const Change& change : changes.shapes) {
+    const Projection& p = change.projection;
+    const double box = change.driven ? std::sqrt(2.0) * reach : reach;  // see readsDrivenGround
+    const Eigen::Vector2d r(box, box);
+    store.forEachCentroidInBox(p.lo - r, p.hi + r, [&](Slot s) {
+      if (marks_.marked(s)) return;
+      const Eigen::Vector3d& c = store.centroid(s);
+      const double distance = distanceToTriangle(c.head<2>(), p);
+      if ((distance <= reach && computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) ||
+          (change.driven && distance <= box &&
+           computer_.readsDrivenGround(store.face(s), window_[s], change.bounds, distance))) {
+        markDirty(s);
+      }
+    });
+  }
+  markNearUnconfirmedChanges(store);
+  // The faces added come first; they are changes of the inflation already.
+  std::vector<Slot>& dirty = changes.rejudged;
+  for (std::size_t i = 0; i < dirty.size(); ++i) {
+    const Slot s = dirty[i];
+    const bool was_lethal = store.face(s).lethal;
+    judge(store, s);
+    if (i >= added_dirty && store.face(s).lethal != was_lethal) changes.lethal_changes.push_back(store.centroid(s));
+  }
+  // Counts alone can make a face known or unknown (min_rays).
+  for (Slot s : changes.reobserved) {
+    if (marks_.marked(s)) continue;
+    StoredFace& f = store.face(s);
+    const bool was_lethal = f.lethal;
+    f.lethal = isLethal(f);
+    if (f.lethal != was_lethal) changes.lethal_changes.push_back(f.centroid_L);
+    markDirty(s);
+  }
+  dirty_ = nullptr;
+}
+
+}  // namespace terramesh::traversability::internal
