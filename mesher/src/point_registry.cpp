@@ -5,22 +5,35 @@
 
 namespace terramesh::mesher::internal {
 
-std::uint32_t PointRegistry::findOrCreatePoint(PointId id) {
-  const auto [it, created] = point_index_.try_emplace(id, kNone);
-  if (!created) return it->second;
+namespace {
+
+/// The index of the record of `id`, created if absent (`created`: which), in a freed slot first.
+template <class Id, class Record>
+std::uint32_t findOrCreate(std::unordered_map<Id, std::uint32_t>& index_of, std::vector<std::uint32_t>& free,
+                           std::vector<Record>& records, Id id, bool& created) {
+  const auto [it, inserted] = index_of.try_emplace(id, kNone);
+  created = inserted;
+  if (!inserted) return it->second;
   std::uint32_t index;
-  if (!free_points_.empty()) {
-    index = free_points_.back();
-    free_points_.pop_back();
+  if (!free.empty()) {
+    index = free.back();
+    free.pop_back();
   } else {
-    index = static_cast<std::uint32_t>(points_.size());
-    points_.emplace_back();
+    index = static_cast<std::uint32_t>(records.size());
+    records.emplace_back();
   }
-  points_[index] = PointRecord{};
-  points_[index].id = id;
-  points_[index].alive = true;
+  records[index] = Record{};
+  records[index].id = id;
+  records[index].alive = true;
   it->second = index;
   return index;
+}
+
+}  // namespace
+
+std::uint32_t PointRegistry::findOrCreatePoint(PointId id) {
+  bool created = false;
+  return findOrCreate(point_index_, free_points_, points_, id, created);
 }
 
 std::uint32_t PointRegistry::findPoint(PointId id) const {
@@ -52,22 +65,7 @@ void PointRegistry::rebuildWaiting() {
 }
 
 std::uint32_t PointRegistry::findOrCreateKeyframe(KeyframeId id, bool& created) {
-  const auto [it, inserted] = keyframe_index_.try_emplace(id, kNone);
-  created = inserted;
-  if (!inserted) return it->second;
-  std::uint32_t index;
-  if (!free_keyframes_.empty()) {
-    index = free_keyframes_.back();
-    free_keyframes_.pop_back();
-  } else {
-    index = static_cast<std::uint32_t>(keyframes_.size());
-    keyframes_.emplace_back();
-  }
-  keyframes_[index] = KeyframeRecord{};
-  keyframes_[index].id = id;
-  keyframes_[index].alive = true;
-  it->second = index;
-  return index;
+  return findOrCreate(keyframe_index_, free_keyframes_, keyframes_, id, created);
 }
 
 std::uint32_t PointRegistry::findKeyframe(KeyframeId id) const {
