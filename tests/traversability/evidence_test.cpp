@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 
+#include "evidence_faces.h"
 #include "test_support/traversability_scenes.h"
 #include "traversability/layer_registry.h"
 #include "traversability/robot_profile_yaml.h"
@@ -15,53 +16,6 @@
 
 namespace terramesh::traversability {
 namespace {
-
-const std::filesystem::path kRobots = std::filesystem::path(TERRAMESH_SOURCE_DIR) / "traversability" / "robots";
-
-RobotProfile smallWheeled() { return loadRobotProfile(kRobots / "small_wheeled.yaml"); }
-
-/// The faces of `mesh` as the mesher reports them: `rays` observations each, `crossings` of them
-/// through the free space in front (0: nobody observed the span), `driven` driven-ground vertices.
-/// Faces whose index satisfies `unobserved` get no crossings.
-std::vector<mesher::SurfaceFace> facesOf(const mesher::TriangleMesh& mesh, std::uint32_t crossings,
-                                         const std::function<bool(std::size_t)>& unobserved = {},
-                                         std::uint8_t driven = 0) {
-  std::vector<mesher::SurfaceFace> faces;
-  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-    mesher::SurfaceFace face;
-    bool steiner = false;
-    for (int i = 0; i < 3; ++i) {
-      const std::uint32_t v = mesh.faces[f][i];
-      steiner = steiner || (!mesh.is_steiner.empty() && mesh.is_steiner[v] != 0);
-      face.vertices[i] = mesher::VertexKey{v, false};
-      face.positions_W[i] = mesh.vertices[v];
-    }
-    face.key = mesher::FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
-    face.touches_steiner = steiner;
-    face.rays = steiner ? 0 : 10;
-    face.front_crossings = steiner || (unobserved && unobserved(f)) ? 0 : crossings;
-    face.driven_vertices = driven;
-    faces.push_back(face);
-  }
-  return faces;
-}
-
-/// The layers of `faces` in the order given (the map's snapshot sorts by key).
-std::vector<FaceLayers> layersOf(const std::vector<mesher::SurfaceFace>& faces, const RobotProfile& profile) {
-  TraversabilityMap map(profile, MapFrame{});
-  map.reset(faces);
-  const LayeredMesh snapshot = map.snapshot();
-  std::map<mesher::FaceKey, FaceLayers> by_key;
-  for (std::size_t f = 0; f < snapshot.layers.size(); ++f) by_key.emplace(snapshot.face_keys[f], snapshot.layers[f]);
-  std::vector<FaceLayers> out;
-  for (const mesher::SurfaceFace& face : faces) out.push_back(by_key.at(face.key));
-  return out;
-}
-
-Eigen::Vector3d centroid(const mesher::TriangleMesh& mesh, std::size_t f) {
-  const auto& t = mesh.faces[f];
-  return (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
-}
 
 TEST(EvidenceTest, EveryFaceCarriesItsEvidenceAndHeightBound) {
   const RobotProfile profile = smallWheeled();
@@ -277,7 +231,9 @@ TEST(EvidenceTest, OnDrivenGroundBridgesAreContradictedButWallsPlacedLaterCount)
       }
     }
     EXPECT_GT(strip, 50u);
-    if (wall) EXPECT_GT(blocked, 10u);
+    if (wall) {
+      EXPECT_GT(blocked, 10u);
+    }
     // The bridge itself, steep and on driven samples: a span the drive contradicts and no
     // observation supports, so interpolated and uncertain (a guessed wall), not lethal by itself.
     for (const std::size_t f : {floor_faces, floor_faces + 1}) {
@@ -458,7 +414,9 @@ TEST(EvidenceTest, AnUnobservedWallIsUncertainNotLethal) {
       } else if (near_floor(f)) {
         ++floors;
         EXPECT_EQ(layers[f].face_class, want) << "floor beside the wall, observed " << observed;
-        if (!observed) EXPECT_TRUE(layers[f].reasons & reason::kPossibleObstacle) << layers[f].reasons;
+        if (!observed) {
+          EXPECT_TRUE(layers[f].reasons & reason::kPossibleObstacle) << layers[f].reasons;
+        }
       }
     }
     EXPECT_EQ(walls, 4u);
@@ -467,16 +425,6 @@ TEST(EvidenceTest, AnUnobservedWallIsUncertainNotLethal) {
 }
 
 /// The class of the floor faces whose centroid lies within 0.025 m of (x, y) (each axis).
-std::vector<FaceClass> floorClassesAt(const mesher::TriangleMesh& mesh, std::size_t floor_faces,
-                                      const std::vector<FaceLayers>& layers, double x, double y) {
-  std::vector<FaceClass> out;
-  for (std::size_t f = 0; f < floor_faces; ++f) {
-    const Eigen::Vector3d c = centroid(mesh, f);
-    if (std::abs(c.x() - x) < 0.025 && std::abs(c.y() - y) < 0.025) out.push_back(layers[f].face_class);
-  }
-  return out;
-}
-
 TEST(EvidenceTest, TheFreeEndOfASparselyMeasuredWallKeepsTheFootprintClear) {
   // A measured 1.5 m wall along x = 0 for y < 0 ending at y = 0. As two triangles (four points:
   // sparse) it may extend up to max_obstacle_extension_m beyond its end: the floor there is
