@@ -51,12 +51,12 @@ void FootprintStage::computeAll(SurfaceStore& store) {
   }
 }
 
-void FootprintStage::markNearUnconfirmedChanges(const SurfaceStore& store) {
+void FootprintStage::markNearUnconfirmedChanges(const SurfaceStore& store, std::vector<Slot>& dirty) {
   const double reach = computer_.unconfirmedReachM() * (1 + 1e-9) + 1e-6;
   const Eigen::Vector2d r(reach, reach);
   for (const Eigen::Vector3d& p : point_changes_) {
     store.forEachInBox(p.head<2>() - r, p.head<2>() + r, [&](Slot s) {
-      if (!marks_.marked(s) && computer_.unconfirmedInBody(store.face(s), p)) markDirty(s);
+      if (!marks_.marked(s) && computer_.unconfirmedInBody(store.face(s), p)) markDirty(s, dirty);
     });
   }
   point_changes_.clear();
@@ -66,12 +66,12 @@ void FootprintStage::update(SurfaceStore& store, StageChanges& changes) {
   for (Slot s : changes.added) window_[s] = computer_.groundWindow(store.face(s));
   const double reach = computer_.maxReachM() * (1 + 1e-9) + 1e-6;
   marks_.next();
-  dirty_ = &changes.rejudged;
-  for (Slot s : changes.added) markDirty(s);
-  for (Slot s : changes.reevidenced) markDirty(s);
-  const std::size_t added_dirty = changes.rejudged.size();
+  std::vector<Slot>& dirty = changes.rejudged;
+  for (Slot s : changes.added) markDirty(s, dirty);
+  for (Slot s : changes.reevidenced) markDirty(s, dirty);
+  const std::size_t added_dirty = dirty.size();
   for (Slot s : changes.edge_neighbours) {
-    if (store.face(s).alive) markDirty(s);
+    if (store.face(s).alive) markDirty(s, dirty);
   }
   // Every face whose footprint disc or clearance column meets a changed face that can be its
   // ground, an obstacle in its footprint or its ceiling.
@@ -86,13 +86,12 @@ void FootprintStage::update(SurfaceStore& store, StageChanges& changes) {
       if ((distance <= reach && computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) ||
           (change.driven && distance <= box &&
            computer_.readsDrivenGround(store.face(s), window_[s], change.bounds, distance))) {
-        markDirty(s);
+        markDirty(s, dirty);
       }
     });
   }
-  markNearUnconfirmedChanges(store);
+  markNearUnconfirmedChanges(store, dirty);
   // The faces added come first; they are changes of the inflation already.
-  std::vector<Slot>& dirty = changes.rejudged;
   for (std::size_t i = 0; i < dirty.size(); ++i) {
     const Slot s = dirty[i];
     const bool was_lethal = store.face(s).lethal;
@@ -106,9 +105,8 @@ void FootprintStage::update(SurfaceStore& store, StageChanges& changes) {
     const bool was_lethal = f.lethal;
     f.lethal = isLethal(f);
     if (f.lethal != was_lethal) changes.lethal_changes.push_back(f.centroid_L);
-    markDirty(s);
+    markDirty(s, dirty);
   }
-  dirty_ = nullptr;
 }
 
 }  // namespace terramesh::traversability::internal

@@ -82,11 +82,12 @@ class FootprintStage final : public LayerStage {
   void judge(SurfaceStore& store, Slot s) const;
   /// Known and lethal, from the face's current local layers.
   bool isLethal(const StoredFace& f) const;
-  /// Marks (into dirty_) every face whose body holds, or held, an unconfirmed point that changed
+  /// Marks (into `dirty`) every face whose body holds, or held, an unconfirmed point that changed
   /// since the last update (LayerComputer::unconfirmedInBody), and forgets those changes.
-  void markNearUnconfirmedChanges(const SurfaceStore& store);
-  void markDirty(Slot s) {
-    if (marks_.mark(s)) dirty_->push_back(s);
+  void markNearUnconfirmedChanges(const SurfaceStore& store, std::vector<Slot>& dirty);
+  /// Appends s to `dirty` unless this update marked it already.
+  void markDirty(Slot s, std::vector<Slot>& dirty) {
+    if (marks_.mark(s)) dirty.push_back(s);
   }
 
   LayerComputer& computer_;
@@ -95,8 +96,6 @@ class FootprintStage final : public LayerStage {
   /// Per slot, the height window of the face's ground candidates (LayerComputer::groundWindow).
   std::vector<LayerComputer::GroundWindow> window_;
   SlotMarks marks_;
-  std::vector<Slot>* dirty_ = nullptr;
-  std::vector<Slot> neighbours_;
   /// The mesher's points not in the mesh (possible obstacles), and the positions (L) where they
   /// changed since the last update.
   UnconfirmedPoints unconfirmed_;
