@@ -38,20 +38,24 @@ void canonicalize(TriangleMesh& mesh) {
     sorted.is_driven.push_back(mesh.is_driven[order[i]]);
     sorted.vertex_keys.push_back(mesh.vertex_keys[order[i]]);
   }
-  // Faces sorted with their observation counts.
-  std::vector<std::array<std::uint32_t, 6>> records(mesh.faces.size());
+  // Faces sorted (each starting at its smallest index), with their observations.
+  std::vector<std::array<std::uint32_t, 3>> faces(mesh.faces.size());
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-    auto face = mesh.faces[f];
+    auto& face = faces[f];
+    face = mesh.faces[f];
     for (auto& index : face) index = rank[index];
     std::rotate(face.begin(), std::min_element(face.begin(), face.end()), face.end());
-    records[f] = {face[0], face[1], face[2], mesh.face_rays[f], mesh.face_front_crossings[f], mesh.face_view_sides[f]};
   }
-  std::sort(records.begin(), records.end());
-  for (const auto& r : records) {
-    sorted.faces.push_back({r[0], r[1], r[2]});
-    sorted.face_rays.push_back(r[3]);
-    sorted.face_front_crossings.push_back(r[4]);
-    sorted.face_view_sides.push_back(static_cast<std::uint8_t>(r[5]));
+  std::vector<std::size_t> face_order(faces.size());
+  std::iota(face_order.begin(), face_order.end(), std::size_t{0});
+  std::sort(face_order.begin(), face_order.end(), [&](std::size_t a, std::size_t b) { return faces[a] < faces[b]; });
+  for (std::size_t f : face_order) {
+    sorted.faces.push_back(faces[f]);
+    sorted.face_rays.push_back(mesh.face_rays[f]);
+    sorted.face_front_crossings.push_back(mesh.face_front_crossings[f]);
+    sorted.face_view_sides.push_back(mesh.face_view_sides[f]);
+    sorted.face_back_crossings.push_back(mesh.face_back_crossings[f]);
+    sorted.face_back_depth.push_back(mesh.face_back_depth[f]);
   }
   mesh = std::move(sorted);
 }
@@ -90,6 +94,8 @@ TriangleMesh Mesher::Impl::extractMesh() const {
       mesh.face_rays.push_back(observed.rays);
       mesh.face_front_crossings.push_back(observed.front_crossings);
       mesh.face_view_sides.push_back(observed.view_sides);
+      mesh.face_back_crossings.push_back(observed.back_crossings);
+      mesh.face_back_depth.push_back(observed.back_depth);
     }
   }
   canonicalize(mesh);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -35,6 +36,25 @@ void checkFace(const std::string& file, const ply::Property& indices, std::size_
       throw InputError(file, where, "vertex index " + std::to_string(index) + " out of range (" +
                                         std::to_string(vertex_count) + " vertices)");
     }
+  }
+}
+
+/// The rays behind each face and how deep their cell reaches, when the file has both (terramesh's
+/// own meshes).
+void readBehind(const std::string& file, const ply::Element& faces, TriangleMesh& mesh) {
+  const ply::Property* crossings = faces.find("back_crossings");
+  const ply::Property* depth = faces.find("back_depth");
+  if (!crossings || !depth || crossings->isList() || depth->isList()) return;
+  for (std::size_t f = 0; f < faces.count; ++f) {
+    constexpr double kMaxCount = 4294967295.0;
+    const double count = crossings->values[f];
+    if (!(count >= 0 && count <= kMaxCount && count == std::floor(count)) || !(depth->values[f] >= 0) ||
+        !std::isfinite(depth->values[f])) {
+      throw InputError(file, "face " + std::to_string(f),
+                       "back_crossings must be a count and back_depth a finite distance >= 0");
+    }
+    mesh.face_back_crossings.push_back(static_cast<std::uint32_t>(count));
+    mesh.face_back_depth.push_back(depth->values[f]);
   }
 }
 
@@ -87,6 +107,7 @@ TriangleMesh readPly(const std::filesystem::path& path) {
         mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(crossings->values[f]));
       }
     }
+    readBehind(file, *faces, mesh);
     if (const ply::Property* sides = faces->find("view_sides"); sides && !sides->isList()) {
       for (std::size_t f = 0; f < faces->count; ++f) {
         mesh.face_view_sides.push_back(checkedViewSides(sides->values[f], file, "face " + std::to_string(f)));
@@ -228,6 +249,11 @@ void writePly(const std::filesystem::path& path, const TriangleMesh& mesh, const
       ply::Property& property = faces.addScalar(name, ply::Type::kUInt32);
       property.values.assign(counts->begin(), counts->end());
     }
+  }
+  if (mesh.face_back_crossings.size() == mesh.faces.size() && mesh.face_back_depth.size() == mesh.faces.size()) {
+    faces.addScalar("back_crossings", ply::Type::kUInt32)
+        .values.assign(mesh.face_back_crossings.begin(), mesh.face_back_crossings.end());
+    faces.addScalar("back_depth", ply::Type::kFloat64).values.assign(mesh.face_back_depth.begin(), mesh.face_back_depth.end());
   }
   if (mesh.face_view_sides.size() == mesh.faces.size()) {
     faces.addScalar("view_sides", ply::Type::kUInt8).values.assign(mesh.face_view_sides.begin(), mesh.face_view_sides.end());

@@ -151,7 +151,7 @@ void OutsideSet::logFacets(const CellHandle& cell, bool entering) {
 void OutsideSet::touchFacesOf(const CellHandle& cell) {
   if (log_ == nullptr) return;
   for (int i = 0; i < 4; ++i) {
-    if (cell->neighbor(i)->info().outside()) continue;
+    if (cell->neighbor(i)->info().outside() == cell->info().outside()) continue;
     for (int k = 0; k < 3; ++k) log_->touch(vertexKey(cell->vertex(Delaunay::vertex_triple_index(i, k))));
   }
 }

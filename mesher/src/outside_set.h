@@ -41,7 +41,8 @@ class OutsideSet {
   void add(CellHandle cell);
   void remove(CellHandle cell);
 
-  /// Tells the log that the surface faces bounded by `cell` (in O) may be observed differently.
+  /// Tells the log that the surface faces bounded by `cell` (on either side: in O, or the cell
+  /// behind a face) may be observed differently.
   void touchFacesOf(const CellHandle& cell);
 
   /// Stable key of a finite vertex: its point's id, or its Steiner lattice node. Requires a log

@@ -51,6 +51,12 @@ SurfaceFace Mesher::Impl::makeFace(const CellHandle& front, int facet) const {
   const Eigen::Vector3d& a = face.positions_W[0];
   const Eigen::Vector3d normal = (face.positions_W[1] - a).cross(face.positions_W[2] - a);
   if (normal.norm() > 0) face.view_sides = viewSides(vertices, normal);
+  const CellHandle back = front->neighbor(facet);
+  if (!state_.tri.is_infinite(back) && back->info().crossings > 0 && normal.norm() > 0) {
+    face.back_crossings = back->info().crossings;
+    const Eigen::Vector3d apex = internal::toEigen(back->vertex(back->index(front))->point());
+    face.back_depth = std::abs(normal.normalized().dot(apex - a));
+  }
   return face;
 }
 

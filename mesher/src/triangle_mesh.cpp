@@ -119,6 +119,7 @@ TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<std::uint8_
   const bool driven = mesh.is_driven.size() == mesh.vertices.size();
   const bool observed = mesh.face_rays.size() == mesh.faces.size() && mesh.face_front_crossings.size() == mesh.faces.size();
   const bool sided = mesh.face_view_sides.size() == mesh.faces.size();
+  const bool behind = mesh.face_back_crossings.size() == mesh.faces.size() && mesh.face_back_depth.size() == mesh.faces.size();
   TriangleMesh result;
   std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
@@ -142,6 +143,10 @@ TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<std::uint8_
       result.face_front_crossings.push_back(mesh.face_front_crossings[f]);
     }
     if (sided) result.face_view_sides.push_back(mesh.face_view_sides[f]);
+    if (behind) {
+      result.face_back_crossings.push_back(mesh.face_back_crossings[f]);
+      result.face_back_depth.push_back(mesh.face_back_depth[f]);
+    }
   }
   return result;
 }

@@ -148,8 +148,10 @@ void TriangulationEditor::registerNewCells(const std::vector<CellHandle>& cells)
     for (int i = 0; i < 4; ++i) ++cell->vertex(i)->info().degree;
   }
   // New cells have no crossings; their weights, and those of the cells around the re-triangulated
-  // region, depend on the new adjacency.
+  // region, depend on the new adjacency. A new cell behind a surface face that survived changes
+  // what lies behind that face.
   for (const CellHandle& cell : cells) {
+    state_.outside.touchFacesOf(cell);
     state_.weights.recompute(cell, state_.candidates);
     for (int i = 0; i < 4; ++i) {
       const CellHandle n = cell->neighbor(i);

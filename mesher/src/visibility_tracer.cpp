@@ -15,8 +15,8 @@ void VisibilityTracer::applyChanges() {
   for (const Change& change : changed_) {
     state_.weights.propagateCrossingChange(change.cell, change.crossings_before,
                                            change.spreading_before, state_.candidates);
-    // The crossings of an O-cell count in the observation of the surface faces it bounds.
-    if (change.cell->info().outside() && change.cell->info().crossings != change.crossings_before) {
+    // The crossings of the cells on both sides of a surface face count in its observation.
+    if (change.cell->info().crossings != change.crossings_before) {
       state_.outside.touchFacesOf(change.cell);
     }
   }

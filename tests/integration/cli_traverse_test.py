@@ -20,8 +20,8 @@ CHECKER = os.path.join(SHARED, "tools", "check_mesh.py")
 ROBOT = os.path.join(SOURCE, "traversability", "robots", "small_wheeled.yaml")
 
 # list, cost, lethal, unknown, uncertain, 7 floats, height_uncertainty_m, evidence, rays, reasons (ushort),
-# heading_fits, front_crossings, view_sides, steiner
-FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 2 + 4 + 4 + 1 + 1
+# heading_fits, front_crossings, back_crossings, back_depth (double), view_sides, steiner
+FACE_BYTES = 1 + 3 * 4 + 4 + 1 + 1 + 1 + 7 * 4 + 4 + 1 + 4 + 2 + 4 + 4 + 4 + 8 + 1 + 1
 VERTEX_BYTES = 3 * 8 + 1 + 4  # x y z, steiner, cost
 
 
@@ -129,7 +129,8 @@ class TempDirCase(unittest.TestCase):
         self.assertEqual(face["properties"], ["vertex_indices", "cost", "lethal", "unknown", "uncertain", "slope_deg",
                                               "step_m", "roughness_m", "contact", "contact_best", "clearance_m",
                                               "lethal_distance_m", "height_uncertainty_m", "evidence", "rays",
-                                              "reasons", "heading_fits", "front_crossings", "view_sides", "steiner"])
+                                              "reasons", "heading_fits", "front_crossings", "back_crossings", "back_depth",
+                                              "view_sides", "steiner"])
         self.assertEqual(os.path.getsize(os.path.join(out, "traversability.ply")),
                          header_size + vertex["count"] * VERTEX_BYTES + face["count"] * FACE_BYTES)
         for level in range(levels):

@@ -60,22 +60,34 @@ TEST_F(MeshIoTest, PlyRoundTripKeepsTheFacesObservation) {
   mesh.face_rays = {7, 0, 3, 12};
   mesh.face_front_crossings = {2, 0, 3, 5};
   mesh.face_view_sides = {view_side::kFront, 0, view_side::kBehind, view_side::kFront | view_side::kBehind};
+  mesh.face_back_crossings = {0, 4, 0, 1};
+  mesh.face_back_depth = {0, 0.4123456789012345, 0, 1e-3};
   writePly(dir_ / "m.ply", mesh);
   const TriangleMesh read = readMesh(dir_ / "m.ply");
   EXPECT_EQ(read.face_rays, mesh.face_rays);
   EXPECT_EQ(read.face_front_crossings, mesh.face_front_crossings);
   EXPECT_EQ(read.face_view_sides, mesh.face_view_sides);
+  EXPECT_EQ(read.face_back_crossings, mesh.face_back_crossings);
+  EXPECT_EQ(read.face_back_depth, mesh.face_back_depth);
 }
 
-TEST_F(MeshIoTest, AViewSidesValueOutsideItsBitsNamesTheFace) {
-  std::ofstream(dir_ / "sides.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+TEST_F(MeshIoTest, ABadFaceObservationNamesTheFaceAndTheProperty) {
+  // Three vertices and two faces with the given face properties; the second face's values are bad.
+  const auto expectNamed = [&](const std::string& properties, const std::string& faces, const std::string& property) {
+    std::ofstream(dir_ / "bad.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                                        "property float y\nproperty float z\nelement face 2\n"
-                                       "property list uchar int vertex_indices\nproperty uchar view_sides\nend_header\n"
-                                       "0 0 0\n1 0 0\n1 1 0\n3 0 1 2 3\n3 0 2 1 4\n";
-  std::string where;
-  const std::string message = readError(dir_ / "sides.ply", &where);
-  EXPECT_EQ(where, "face 1");
-  EXPECT_NE(message.find("view_sides"), std::string::npos) << message;
+                                       "property list uchar int vertex_indices\n"
+                                    << properties << "end_header\n0 0 0\n1 0 0\n1 1 0\n" << faces;
+    std::string where;
+    const std::string message = readError(dir_ / "bad.ply", &where);
+    EXPECT_EQ(where, "face 1") << property;
+    EXPECT_NE(message.find(property), std::string::npos) << message;
+  };
+  // A view_sides value outside its bits.
+  expectNamed("property uchar view_sides\n", "3 0 1 2 3\n3 0 2 1 4\n", "view_sides");
+  // A negative depth behind the face.
+  expectNamed("property uint back_crossings\nproperty double back_depth\n", "3 0 1 2 0 0\n3 0 2 1 3 -0.5\n",
+              "back_depth");
 }
 
 TEST_F(MeshIoTest, ObjRoundTrip) {

@@ -73,7 +73,8 @@ FaceMap toMap(const std::vector<SurfaceFace>& faces) {
   return map;
 }
 
-/// Same faces with the same winding, positions and Steiner flags (and rays, if asked).
+/// Same faces with the same winding, positions and Steiner flags (and rays and what lies behind,
+/// if asked).
 ::testing::AssertionResult sameFaces(const FaceMap& actual, const FaceMap& expected, bool rays) {
   if (actual.size() != expected.size()) {
     return ::testing::AssertionFailure() << actual.size() << " faces, expected " << expected.size();
@@ -94,6 +95,11 @@ FaceMap toMap(const std::vector<SurfaceFace>& faces) {
     }
     if (rays && x.rays != y.rays) {
       return ::testing::AssertionFailure() << describe(x.key) << ": " << x.rays << " rays, expected " << y.rays;
+    }
+    if (rays && (x.back_crossings != y.back_crossings || x.back_depth != y.back_depth)) {
+      return ::testing::AssertionFailure() << describe(x.key) << ": " << x.back_crossings << " rays behind, "
+                                           << x.back_depth << " deep, expected " << y.back_crossings << ", "
+                                           << y.back_depth;
     }
   }
   return ::testing::AssertionSuccess();
@@ -127,6 +133,8 @@ struct Replica {
       const auto it = faces.find(face.key);
       ASSERT_TRUE(it != faces.end()) << describe(face.key) << " around a touched vertex is unknown";
       it->second.rays = face.rays;
+      it->second.back_crossings = face.back_crossings;
+      it->second.back_depth = face.back_depth;
     }
     revision = delta.to_revision;
   }
@@ -361,7 +369,7 @@ TEST(SurfaceDeltaTest, StaleFutureAndForgottenRevisions) {
   EXPECT_THROW(mesher.changesSince(now + 1), std::invalid_argument);
 }
 
-TEST(SurfaceDeltaTest, RaysCountStoredRaysAtTheVerticesAndCrossingsInFront) {
+TEST(SurfaceDeltaTest, RaysCountStoredRaysAtTheVerticesAndCrossingsInFrontAndBehind) {
   test::SceneOptions options;
   options.keyframes = 16;
   const test::AnalyticScene scene = test::corridorScene(options);
@@ -389,21 +397,27 @@ TEST(SurfaceDeltaTest, RaysCountStoredRaysAtTheVerticesAndCrossingsInFront) {
     for (std::size_t i = 0; i < 9; ++i) c[i] = p[i / 3][static_cast<Eigen::Index>(i % 3)];
     return c;
   };
+  // ... and of the cell behind it, with that cell's fourth vertex.
   std::map<Corners, std::uint32_t> crossings_in_front;
+  std::map<Corners, std::pair<std::uint32_t, Eigen::Vector3d>> behind;
   for (const CellVisibility& cell : mesher.cellVisibility()) {
-    if (!cell.outside) continue;
     for (std::size_t skip = 0; skip < 4; ++skip) {
       std::array<Eigen::Vector3d, 3> facet;
       for (std::size_t i = 0, n = 0; i < 4; ++i) {
         if (i != skip) facet[n++] = cell.vertices_W[i];
       }
-      crossings_in_front[corners(facet)] += cell.crossings;  // only surface facets are looked up
+      // Only surface facets are looked up.
+      if (cell.outside) {
+        crossings_in_front[corners(facet)] += cell.crossings;
+      } else {
+        behind[corners(facet)] = {cell.crossings, cell.vertices_W[skip]};
+      }
     }
   }
 
   const std::vector<SurfaceFace> faces = mesher.surfaceFaces();
   ASSERT_GT(faces.size(), 200u);
-  std::size_t steiner_faces = 0, observed_faces = 0;
+  std::size_t steiner_faces = 0, observed_faces = 0, faces_with_rays_behind = 0;
   for (const SurfaceFace& face : faces) {
     std::uint32_t expected = 0;
     for (std::size_t k = 0; k < 3; ++k) {
@@ -417,6 +431,17 @@ TEST(SurfaceDeltaTest, RaysCountStoredRaysAtTheVerticesAndCrossingsInFront) {
     ASSERT_TRUE(front != crossings_in_front.end()) << describe(face.key);
     expected += front->second;
     EXPECT_EQ(face.rays, expected) << describe(face.key);
+    const auto back = behind.find(corners(face.positions_W));
+    const std::uint32_t back_crossings = back == behind.end() ? 0 : back->second.first;  // none: infinite
+    EXPECT_EQ(face.back_crossings, back_crossings) << describe(face.key);
+    if (back_crossings > 0) {
+      const Eigen::Vector3d& a = face.positions_W[0];
+      const Eigen::Vector3d n = (face.positions_W[1] - a).cross(face.positions_W[2] - a).normalized();
+      EXPECT_NEAR(face.back_depth, std::abs(n.dot(back->second.second - a)), 1e-12) << describe(face.key);
+      ++faces_with_rays_behind;
+    } else {
+      EXPECT_EQ(face.back_depth, 0.0) << describe(face.key);
+    }
     const bool steiner = std::any_of(face.vertices.begin(), face.vertices.end(),
                                      [](const VertexKey& v) { return v.steiner; });
     EXPECT_EQ(face.touches_steiner, steiner);
@@ -425,6 +450,7 @@ TEST(SurfaceDeltaTest, RaysCountStoredRaysAtTheVerticesAndCrossingsInFront) {
   }
   EXPECT_GT(observed_faces, faces.size() / 2);
   EXPECT_LT(steiner_faces, faces.size());
+  EXPECT_GT(faces_with_rays_behind, 0u) << "the check above must see some";
 
   // The Steiner flags agree with extractMesh, face by face.
   const FaceMap extracted = facesOfMesh(mesher.extractMesh());

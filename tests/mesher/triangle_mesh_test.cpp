@@ -82,10 +82,14 @@ TEST(SelectFaces, KeepsFlaggedFacesWithTheirArraysAndRenumbersVertices) {
   TriangleMesh mesh = tetrahedron();
   mesh.face_rays = {10, 11, 12, 13};
   mesh.face_front_crossings = {1, 2, 3, 4};
+  mesh.face_back_crossings = {0, 5, 6, 0};
+  mesh.face_back_depth = {0, 0.5, 0.6, 0};
   const TriangleMesh selected = selectFaces(mesh, {0, 1, 0, 1});
   ASSERT_EQ(selected.faces.size(), 2u);
   EXPECT_EQ(selected.face_rays, (std::vector<std::uint32_t>{11, 13}));
   EXPECT_EQ(selected.face_front_crossings, (std::vector<std::uint32_t>{2, 4}));
+  EXPECT_EQ(selected.face_back_crossings, (std::vector<std::uint32_t>{5, 0}));
+  EXPECT_EQ(selected.face_back_depth, (std::vector<double>{0.5, 0}));
   // Faces {0, 1, 3} and {0, 3, 2} use all four vertices, numbered by first use: 0, 1, 3, 2.
   ASSERT_EQ(selected.vertices.size(), 4u);
   EXPECT_EQ(selected.vertices[2], mesh.vertices[3]);

@@ -59,6 +59,8 @@ class EditableSurface {
     for (std::size_t f = 0; f < mesh_.faces.size(); ++f) rays_.push_back(10);
     crossings_.assign(mesh_.faces.size(), 4);
     sides_.assign(mesh_.faces.size(), mesher::view_side::kFront);
+    back_.assign(mesh_.faces.size(), 0);
+    depth_.assign(mesh_.faces.size(), 0.0);
     present_.assign(mesh_.faces.size(), true);
   }
 
@@ -72,7 +74,8 @@ class EditableSurface {
 
   /// One random edit: raise or lower the vertices in a disc (a bump, a pit, a block), cut or
   /// restore a patch, or change the ray counts of a patch (whether rays cross the space in front
-  /// of its faces, and which side of them the cameras saw). Returns the delta from before.
+  /// of its faces and behind them, and which side of them the cameras saw). Returns the delta
+  /// from before.
   mesher::SurfaceDelta edit(std::mt19937& rng) {
     std::uniform_real_distribution<double> coord(-5, 5), unit(0, 1);
     const Eigen::Vector2d centre(coord(rng), coord(rng));
@@ -101,6 +104,8 @@ class EditableSurface {
         rays_[f] = static_cast<std::uint32_t>(rng() % 6);
         crossings_[f] = std::min(rays_[f], static_cast<std::uint32_t>(rng() % 3));
         sides_[f] = static_cast<std::uint8_t>(rng() % 4);
+        back_[f] = static_cast<std::uint32_t>(rng() % 5);
+        depth_[f] = back_[f] > 0 ? 0.5 * unit(rng) : 0.0;
       }
       if (present_[f]) delta.added.push_back(face(f));
     }
@@ -122,11 +127,14 @@ class EditableSurface {
     face.rays = rays_[f];
     face.front_crossings = crossings_[f];
     face.view_sides = sides_[f];
+    face.back_crossings = back_[f];
+    face.back_depth = depth_[f];
     return face;
   }
 
   mesher::TriangleMesh mesh_;
-  std::vector<std::uint32_t> rays_, crossings_;
+  std::vector<std::uint32_t> rays_, crossings_, back_;
+  std::vector<double> depth_;
   std::vector<std::uint8_t> sides_;
   std::vector<bool> present_;
 };
@@ -229,6 +237,20 @@ TEST(IncrementalTest, FacesReaddedWithTheSameGeometryAreNotChanges) {
   third.view_sides = mesher::view_side::kFront | mesher::view_side::kBehind;
   map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {third});
   expectEqualsFull("after a view from in front");
+  EXPECT_EQ(layersOfThird().face_class, FaceClass::kFree);
+
+  // Rays seen under it, 0.4 m deep (a lid): uncertain; and gone again, through the faces around
+  // touched vertices.
+  third.back_crossings = static_cast<std::uint32_t>(profile.min_rays);
+  third.back_depth = 0.4;
+  map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {third});
+  expectEqualsFull("after rays behind it");
+  EXPECT_EQ(layersOfThird().face_class, FaceClass::kUncertain);
+  EXPECT_EQ(layersOfThird().evidence, Evidence::kInterpolated);
+  third.back_crossings = 0;
+  third.back_depth = 0;
+  map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {third});
+  expectEqualsFull("after the rays behind it were gone");
   EXPECT_EQ(layersOfThird().face_class, FaceClass::kFree);
 
   // The same key with a vertex moved by a nanometre is a real change.

@@ -82,7 +82,7 @@ TEST(LayerPipeline, TheShippedStagesRunInDependencyOrderAndWriteEveryLayerOnce) 
   std::map<std::string, std::string> writer;
   std::set<std::string> written_before;
   // What no stage writes: the mesh's faces and counts, the drive, the unconfirmed points.
-  const std::set<std::string> inputs = {"geometry", "rays", "front_crossings", "driven_vertices", "drive",
+  const std::set<std::string> inputs = {"geometry", "rays", "front_crossings", "back_crossings", "driven_vertices", "drive",
                                         "unconfirmed_points"};
   for (const auto& s : pipeline.stages()) {
     const StageDeclaration& d = s->declaration();

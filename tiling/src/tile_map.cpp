@@ -91,6 +91,8 @@ void appendMap(LayeredMesh& into, const LayeredMesh& part) {
   appendAligned(into.mesh.face_rays, part.mesh.face_rays, faces_before, part_faces);
   appendAligned(into.mesh.face_front_crossings, part.mesh.face_front_crossings, faces_before, part_faces);
   appendAligned(into.mesh.face_view_sides, part.mesh.face_view_sides, faces_before, part_faces);
+  appendAligned(into.mesh.face_back_crossings, part.mesh.face_back_crossings, faces_before, part_faces);
+  appendAligned(into.mesh.face_back_depth, part.mesh.face_back_depth, faces_before, part_faces);
   appendAligned(into.face_keys, part.face_keys, faces_before, part_faces);
   into.mesh.vertices.insert(into.mesh.vertices.end(), part.mesh.vertices.begin(), part.mesh.vertices.end());
   for (const auto& face : part.mesh.faces) into.mesh.faces.push_back({face[0] + offset, face[1] + offset, face[2] + offset});

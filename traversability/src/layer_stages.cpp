@@ -16,7 +16,7 @@ void SlotMarks::next() {
 EvidenceStage::EvidenceStage(const LayerComputer& computer)
     : computer_(computer),
       declaration_{"evidence",
-                   {"geometry", "front_crossings", "driven_vertices"},
+                   {"geometry", "front_crossings", "back_crossings", "driven_vertices"},
                    {"evidence", "height_uncertainty_m"},
                    {StageReach::Kind::kEdgeNeighbours, 0.0}} {}
 

@@ -85,6 +85,9 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   f.max_z = std::max({f.p_L[0].z(), f.p_L[1].z(), f.p_L[2].z()});
   f.rays = input.rays;
   f.front_crossings = input.front_crossings;
+  f.back_crossings = input.back_crossings;
+  f.back_depth_W = input.back_depth;
+  f.back_depth_m = input.back_depth * metres_per_unit_;
   f.view_sides = input.view_sides;
   f.driven_vertices = input.driven_vertices;
   f.steiner = input.touches_steiner;

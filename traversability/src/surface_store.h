@@ -36,6 +36,11 @@ struct StoredFace {
   std::uint32_t rays = 0;
   /// Rays through the free cell in front of the face (mesher::SurfaceFace::front_crossings).
   std::uint32_t front_crossings = 0;
+  /// Rays through the cell behind the face (mesher::SurfaceFace::back_crossings), and how far
+  /// behind its plane that cell reaches (back_depth: as given, map units; and in metres).
+  std::uint32_t back_crossings = 0;
+  double back_depth_W = 0;
+  double back_depth_m = 0;
   /// Which sides of its plane its points were seen from (mesher::SurfaceFace::view_sides).
   std::uint8_t view_sides = 0;
   /// How many vertices are driven-ground samples (mesher::SurfaceFace::driven_vertices).

@@ -133,6 +133,8 @@ class TraversabilityMap::Impl {
       out.mesh.face_rays.push_back(f.rays);
       out.mesh.face_front_crossings.push_back(f.front_crossings);
       out.mesh.face_view_sides.push_back(f.view_sides);
+      out.mesh.face_back_crossings.push_back(f.back_crossings);
+      out.mesh.face_back_depth.push_back(f.back_depth_W);
       out.layers.push_back(f.layers);
       out.face_keys.push_back(f.key);
     }
@@ -167,11 +169,17 @@ class TraversabilityMap::Impl {
     };
     const auto recount = [&](Slot s, const mesher::SurfaceFace& face) {
       StoredFace& f = store_.face(s);
-      if (f.rays == face.rays && f.front_crossings == face.front_crossings && f.view_sides == face.view_sides) return;
+      if (f.rays == face.rays && f.front_crossings == face.front_crossings && f.view_sides == face.view_sides &&
+          f.back_crossings == face.back_crossings && f.back_depth_W == face.back_depth) {
+        return;
+      }
       f.rays = face.rays;
       f.layers.rays = face.rays;
       f.front_crossings = face.front_crossings;
       f.view_sides = face.view_sides;
+      f.back_crossings = face.back_crossings;
+      f.back_depth_W = face.back_depth;
+      f.back_depth_m = face.back_depth * frame_.metres_per_unit;
       changes_.recounted.push_back(s);
     };
     // Churn: a face removed and re-added with the same vertices and positions changes nothing
@@ -305,6 +313,11 @@ LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, 
       // Another program's mesh has no ray paths: its measured faces count as observed in front.
       face.rays = steiner ? 0 : rays_if_unknown;
       face.front_crossings = face.rays;
+    }
+    // Rays behind it: none known without them (another program's mesh, an older file).
+    if (mesh.face_back_crossings.size() == mesh.faces.size() && mesh.face_back_depth.size() == mesh.faces.size()) {
+      face.back_crossings = mesh.face_back_crossings[f];
+      face.back_depth = mesh.face_back_depth[f];
     }
     // Without the sides (another program's mesh, an older file): seen from in front.
     face.view_sides = mesh.face_view_sides.size() == mesh.faces.size() ? mesh.face_view_sides[f] : mesher::view_side::kFront;

@@ -66,6 +66,14 @@ struct SurfaceFace {
   /// whether any observation passed through the free space over the face's interior, counted
   /// when the face was reported.
   std::uint32_t front_crossings = 0;
+  /// Rays crossing the cell behind the face (the matter-side cell it bounds), counted when the
+  /// face was reported: observations that passed through space the surface closes off. The
+  /// surface keeps such a cell out of O only where adding it would break the 2-manifold (a lid
+  /// over a pit whose rim and floor are both on the surface), so rays behind a face contradict it.
+  std::uint32_t back_crossings = 0;
+  /// How far behind the face's plane that cell reaches: the distance of its fourth vertex from the
+  /// plane, in map units, when rays cross it (`back_crossings > 0`); 0 otherwise.
+  double back_depth = 0;
   /// True if a vertex is a Steiner vertex (the face closes the map, it was not measured).
   bool touches_steiner = false;
   /// How many of its vertices (0-3) are driven-ground samples (PointKind::kDrivenGround): ground

@@ -33,6 +33,11 @@ struct TriangleMesh {
   /// Per face, SurfaceFace::view_sides (view_side bits). Either empty (unknown) or the same size
   /// as `faces`; the PLY writer and reader keep it (face property `view_sides`).
   std::vector<std::uint8_t> face_view_sides;
+  /// Per face, SurfaceFace::back_crossings and SurfaceFace::back_depth (map units). Either both
+  /// empty (unknown) or both the same size as `faces`; the PLY writer and reader keep them (face
+  /// properties `back_crossings`, `back_depth`).
+  std::vector<std::uint32_t> face_back_crossings;
+  std::vector<double> face_back_depth;
 
   std::size_t vertexCount() const { return vertices.size(); }
   std::size_t faceCount() const { return faces.size(); }

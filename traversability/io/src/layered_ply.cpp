@@ -118,6 +118,10 @@ void writeLayeredPly(const std::filesystem::path& path, const LayeredMesh& map) 
     scalar(faces, "front_crossings", Type::kUInt32, face_count,
            [&](std::size_t f) { return mesh.face_front_crossings[f]; });
   }
+  if (mesh.face_back_crossings.size() == face_count && mesh.face_back_depth.size() == face_count) {
+    scalar(faces, "back_crossings", Type::kUInt32, face_count, [&](std::size_t f) { return mesh.face_back_crossings[f]; });
+    scalar(faces, "back_depth", Type::kFloat64, face_count, [&](std::size_t f) { return mesh.face_back_depth[f]; });
+  }
   if (mesh.face_view_sides.size() == face_count) {
     scalar(faces, "view_sides", Type::kUInt8, face_count, [&](std::size_t f) { return mesh.face_view_sides[f]; });
   }
@@ -155,6 +159,9 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
   const ply::Property* uncertain = faces->find("uncertain");
   const ply::Property* front_crossings = faces->find("front_crossings");
   const ply::Property* view_sides = faces->find("view_sides");
+  const ply::Property* back_crossings = faces->find("back_crossings");
+  const ply::Property* back_depth = faces->find("back_depth");
+  const bool behind = back_crossings && back_depth && !back_crossings->isList() && !back_depth->isList();
   // The registry's layers (the cost is read and checked with the class below); optional ones may
   // be missing (older files): their faces keep the defaults.
   std::vector<std::pair<const LayerInfo*, const ply::Property*>> registry_layers;
@@ -203,6 +210,14 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
       mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(c));
     }
     if (view_sides && !view_sides->isList()) mesh.face_view_sides.push_back(mesher::checkedViewSides(view_sides->values[f], file, where));
+    if (behind) {
+      const double c = back_crossings->values[f], d = back_depth->values[f];
+      if (!(c >= 0 && c <= 4294967295.0 && c == std::floor(c)) || !(d >= 0) || !std::isfinite(d)) {
+        throw InputError(file, where, "back_crossings must be a count and back_depth a finite distance >= 0");
+      }
+      mesh.face_back_crossings.push_back(static_cast<std::uint32_t>(c));
+      mesh.face_back_depth.push_back(d);
+    }
   }
   return map;
 }
