@@ -294,7 +294,8 @@ class LayerComputer {
   /// What supports face s's slope: whether it rises no more than max_step_m between its vertices
   /// or its plane is confirmed beyond it along its slope (a measured vertex of an edge neighbour,
   /// farther up or down the slope than the face's own vertices, within the point noise of the
-  /// plane), and the extent along the slope that its own vertices and those confirming ones span
+  /// plane, and far enough beyond to tell the plane from level ground going on from the face's
+  /// end), and the extent along the slope that its own vertices and those confirming ones span
   /// (infinite for walls and level faces). Reads only s and its edge neighbours (which
   /// TraversabilityMap re-judges with it).
   struct SlopeSupport {

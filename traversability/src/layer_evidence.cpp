@@ -95,6 +95,11 @@ LayerComputer::SlopeSupport LayerComputer::slopeSupport(const SurfaceStore& stor
     hi = std::max(hi, d);
   }
   const double tolerance = 2.0 * profile_.evidence.point_noise_m + 0.01;
+  // A point beyond the face confirms its plane only where the plane and level ground continuing
+  // from the face's end differ by more than the tolerance: a point just past the foot of a face
+  // from the road up to something beside it lies on both.
+  const double informative_m = tolerance / gradient.norm();
+  const double face_lo = lo, face_hi = hi;
   bool beyond = false;
   store.neighbours(s, neighbours_);
   for (Slot t : neighbours_) {
@@ -109,7 +114,7 @@ LayerComputer::SlopeSupport LayerComputer::slopeSupport(const SurfaceStore& stor
       const double extent = 1e-6 * (1.0 + hi - lo);
       if (along < hi + extent && along > lo - extent) continue;  // beside the face (or the part confirmed)
       if (std::abs(p.z() - (c.z() + gradient.dot(offset))) > tolerance) continue;
-      beyond = true;
+      beyond = beyond || along > face_hi + informative_m || along < face_lo - informative_m;
       lo = std::min(lo, along);
       hi = std::max(hi, along);
     }
