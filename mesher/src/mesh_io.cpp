@@ -46,15 +46,7 @@ void readBehind(const std::string& file, const ply::Element& faces, TriangleMesh
   const ply::Property* depth = faces.find("back_depth");
   if (!crossings || !depth || crossings->isList() || depth->isList()) return;
   for (std::size_t f = 0; f < faces.count; ++f) {
-    constexpr double kMaxCount = 4294967295.0;
-    const double count = crossings->values[f];
-    if (!(count >= 0 && count <= kMaxCount && count == std::floor(count)) || !(depth->values[f] >= 0) ||
-        !std::isfinite(depth->values[f])) {
-      throw InputError(file, "face " + std::to_string(f),
-                       "back_crossings must be a count and back_depth a finite distance >= 0");
-    }
-    mesh.face_back_crossings.push_back(static_cast<std::uint32_t>(count));
-    mesh.face_back_depth.push_back(depth->values[f]);
+    appendCheckedBehind(crossings->values[f], depth->values[f], file, "face " + std::to_string(f), mesh);
   }
 }
 
@@ -289,6 +281,17 @@ std::uint8_t checkedViewSides(double value, const std::string& file, const std::
     throw InputError(file, where, "view_sides must be an integer from 0 to 3 (bit 1: seen from in front, 2: from behind)");
   }
   return static_cast<std::uint8_t>(value);
+}
+
+void appendCheckedBehind(double crossings, double depth, const std::string& file, const std::string& where,
+                         TriangleMesh& mesh) {
+  constexpr double kMaxCount = 4294967295.0;
+  if (!(crossings >= 0 && crossings <= kMaxCount && crossings == std::floor(crossings)) || !(depth >= 0) ||
+      !std::isfinite(depth)) {
+    throw InputError(file, where, "back_crossings must be a count and back_depth a finite distance >= 0");
+  }
+  mesh.face_back_crossings.push_back(static_cast<std::uint32_t>(crossings));
+  mesh.face_back_depth.push_back(depth);
 }
 
 }  // namespace terramesh::mesher

@@ -31,4 +31,11 @@ TriangleMesh readMesh(const std::filesystem::path& path);
 /// @throw terramesh::InputError naming `file` and `where` if `value` is not one.
 std::uint8_t checkedViewSides(double value, const std::string& file, const std::string& where);
 
+/// A face's rays behind it and their cell's depth as a PLY file holds them
+/// (SurfaceFace::back_crossings, a count; SurfaceFace::back_depth, a finite distance >= 0), appended
+/// to `mesh.face_back_crossings` and `mesh.face_back_depth`.
+/// @throw terramesh::InputError naming `file` and `where` if they are not.
+void appendCheckedBehind(double crossings, double depth, const std::string& file, const std::string& where,
+                         TriangleMesh& mesh);
+
 }  // namespace terramesh::mesher

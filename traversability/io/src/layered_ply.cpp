@@ -210,14 +210,7 @@ LayeredMesh readLayeredPly(const std::filesystem::path& path) {
       mesh.face_front_crossings.push_back(static_cast<std::uint32_t>(c));
     }
     if (view_sides && !view_sides->isList()) mesh.face_view_sides.push_back(mesher::checkedViewSides(view_sides->values[f], file, where));
-    if (behind) {
-      const double c = back_crossings->values[f], d = back_depth->values[f];
-      if (!(c >= 0 && c <= 4294967295.0 && c == std::floor(c)) || !(d >= 0) || !std::isfinite(d)) {
-        throw InputError(file, where, "back_crossings must be a count and back_depth a finite distance >= 0");
-      }
-      mesh.face_back_crossings.push_back(static_cast<std::uint32_t>(c));
-      mesh.face_back_depth.push_back(d);
-    }
+    if (behind) mesher::appendCheckedBehind(back_crossings->values[f], back_depth->values[f], file, where, mesh);
   }
   return map;
 }
