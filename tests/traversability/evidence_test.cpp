@@ -461,57 +461,5 @@ TEST(EvidenceTest, AFootprintThatReachesAPossibleStepIsUncertain) {
   }
 }
 
-TEST(EvidenceTest, ALidThatRaysSawUnderIsNeverFree) {
-  // A dense floor at 0; over the square |x - 1| < 0.5, |y| < 0.5 rays crossed the cell behind
-  // the faces, 0.4 m deep (a pit whose rim and floor are both on the surface, closed by a lid the
-  // 2-manifold keeps). The lid is no measured ground: a 0.4 m drop (limit 0.18 m) may lie under
-  // it, so it and every footprint that reaches it are uncertain; farther away the floor is free.
-  const RobotProfile profile = smallWheeled();
-  const double r = profile.footprintCircumradiusM();
-  const mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
-  const auto lid = [&](std::size_t f) {
-    const Eigen::Vector3d c = centroid(mesh, f);
-    return std::abs(c.x() - 1) < 0.5 && std::abs(c.y()) < 0.5;
-  };
-  const auto withRaysBehind = [&](std::uint32_t crossings) {
-    std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-      if (!lid(f)) continue;
-      faces[f].back_crossings = crossings;
-      faces[f].back_depth = 0.4;
-    }
-    return layersOf(faces, profile);
-  };
-  const std::vector<FaceLayers> layers = withRaysBehind(static_cast<std::uint32_t>(profile.min_rays));
-  std::size_t lids = 0, near = 0, far = 0;
-  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-    const Eigen::Vector3d c = centroid(mesh, f);
-    const double outside = std::max(std::abs(c.x() - 1), std::abs(c.y())) - 0.5;  // to the lid's edge
-    if (lid(f)) {
-      ++lids;
-      EXPECT_EQ(layers[f].evidence, Evidence::kInterpolated);
-      EXPECT_GE(layers[f].height_uncertainty_m, 0.4f);
-      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain);
-    } else if (outside < r - 0.1 && std::abs(c.y()) < 0.4) {
-      ++near;
-      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at " << c.transpose();
-      EXPECT_TRUE(layers[f].reasons & reason::kWorstCaseRelief) << layers[f].reasons;
-    } else if (outside > r + 0.1 && std::abs(c.x()) < 2.5 && std::abs(c.y()) < 2.5) {
-      ++far;
-      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at " << c.transpose();
-    }
-  }
-  EXPECT_GT(lids, 150u);
-  EXPECT_GT(near, 50u);
-  EXPECT_GT(far, 500u);
-  // Fewer rays behind than the profile trusts (a point's noise): measured, and free.
-  const std::vector<FaceLayers> noise = withRaysBehind(static_cast<std::uint32_t>(profile.min_rays - 1));
-  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-    if (!lid(f)) continue;
-    EXPECT_EQ(noise[f].evidence, Evidence::kMeasured);
-    EXPECT_EQ(noise[f].face_class, FaceClass::kFree);
-  }
-}
-
 }  // namespace
 }  // namespace terramesh::traversability

@@ -87,6 +87,24 @@ class LayerComputer {
   /// (slopeSupport), so TraversabilityMap sets it again when they change. Returns whether the
   /// evidence, the bound or the relief changed.
   bool setEvidence(SurfaceStore& store, Slot s) const;
+  /// A lid: a face no steeper than max_slope_deg with at least max(1, min_rays) rays through the
+  /// cell behind it (rays saw the space it closes off as free).
+  bool isLid(const StoredFace& f) const {
+    return f.normal_L.z() >= cos_max_slope_ &&
+           f.back_crossings >= static_cast<std::uint32_t>(std::max(1, profile_.min_rays));
+  }
+  /// How deep the void under a lid may be (the depth of the cell behind it,
+  /// StoredFace::back_depth_m); 0 for any other face.
+  double lidDepthM(const StoredFace& f) const { return isLid(f) ? f.back_depth_m : 0.0; }
+  /// How deep the void under a lid may reach under the faces around its vertices: its depth where
+  /// the lid spans a rim at one level (it rises no more than max_step_m) over a drop the robot
+  /// cannot step down (deeper than max_step_m); 0 otherwise (a lid rising more is a tent over
+  /// whatever lies under its high side).
+  double rimVoidM(const StoredFace& f) const {
+    const double depth = lidDepthM(f);
+    return f.max_z - f.min_z <= profile_.max_step_m && depth > profile_.max_step_m ? depth : 0.0;
+  }
+
   /// Whether setEvidence reads the face's edge neighbours: a measured, not driven, gentle face
   /// rising more than max_step_m (whose rise they may confirm).
   bool evidenceReadsNeighbours(const StoredFace& f) const {

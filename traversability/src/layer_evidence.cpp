@@ -44,11 +44,13 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
     // face is then a lid the 2-manifold keeps (over a pit whose rim and floor are both on the
     // surface), not a measured surface, and the ground beneath may be as deep as that cell
     // reaches. (A steep face stays what it is: a wall, judged as one.)
-    const bool seen_through = f.normal_L.z() >= cos_max_slope_ &&
-                              f.back_crossings >= static_cast<std::uint32_t>(std::max(1, profile_.min_rays));
+    const bool seen_through = isLid(f);
     evidence = observed && !bridge && !seen_through ? Evidence::kMeasured : Evidence::kInterpolated;
     relief = g.span_m * (observed ? m.relief_per_m_observed : m.relief_per_m_unobserved);
-    if (seen_through) relief = std::max(relief, f.back_depth_m);
+    relief = std::max(relief, lidDepthM(f));
+    // The void under a lid spanning a rim ends somewhere between the rim points and the ground
+    // points beyond them: it may reach under every face around the lid's vertices as deep.
+    store.forEachVertexNeighbour(s, [&](Slot t) { relief = std::max(relief, rimVoidM(store.face(t))); });
     // A possible step (uncertain): its step may stand anywhere between its vertices.
     const double rise = f.max_z - f.min_z;
     if (rise > profile_.max_step_m && f.normal_L.z() >= cos_max_slope_ &&

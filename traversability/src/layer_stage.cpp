@@ -9,6 +9,7 @@ void StageChanges::clear() {
   added.clear();
   recounted.clear();
   edge_neighbours.clear();
+  lid_neighbours.clear();
   shapes.clear();
   lethal_changes.clear();
   reevidenced.clear();

@@ -20,6 +20,7 @@ struct StageReach {
   enum class Kind : std::uint8_t {
     kFace,            ///< the face itself
     kEdgeNeighbours,  ///< the face and the faces sharing an edge with it
+    kVertexNeighbours,  ///< the face and the faces sharing a vertex with it
     kHorizontal,      ///< faces within `metres` in the horizontal plane (a footprint, a column)
     kGeodesic,        ///< faces within `metres` along the surface (an inflation)
   };
@@ -46,6 +47,10 @@ struct StageChanges {
   std::vector<Slot> added;            ///< faces added
   std::vector<Slot> recounted;        ///< faces kept whose observation counts changed
   std::vector<Slot> edge_neighbours;  ///< of the faces added and removed (repeats and dead ones possible)
+  /// Faces sharing a vertex with a face whose rim void (LayerComputer::rimVoidM) changed: such a
+  /// lid added or removed, or a face kept whose counts made it one or changed its depth (repeats
+  /// and dead ones possible).
+  std::vector<Slot> lid_neighbours;
   /// Faces added and removed (as they were), and faces whose evidence changed: where footprints
   /// that may stand on, meet or sit under them are.
   std::vector<Change> shapes;

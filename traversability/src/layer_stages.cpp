@@ -16,9 +16,9 @@ void SlotMarks::next() {
 EvidenceStage::EvidenceStage(const LayerComputer& computer)
     : computer_(computer),
       declaration_{"evidence",
-                   {"geometry", "front_crossings", "back_crossings", "driven_vertices"},
+                   {"geometry", "front_crossings", "back_crossings", "back_depth", "driven_vertices"},
                    {"evidence", "height_uncertainty_m"},
-                   {StageReach::Kind::kEdgeNeighbours, 0.0}} {}
+                   {StageReach::Kind::kVertexNeighbours, 0.0}} {}
 
 void EvidenceStage::computeAll(SurfaceStore& store) {
   for (Slot s = 0; s < store.slotCount(); ++s) {
@@ -49,6 +49,10 @@ void EvidenceStage::update(SurfaceStore& store, StageChanges& changes) {
   for (Slot s : changes.edge_neighbours) {
     if (!store.face(s).alive) continue;
     if (computer_.evidenceReadsNeighbours(store.face(s)) && computer_.setEvidence(store, s)) changed(store, s, changes);
+  }
+  // A face's relief reads the depth of the lids around its vertices.
+  for (Slot s : changes.lid_neighbours) {
+    if (store.face(s).alive && computer_.setEvidence(store, s)) changed(store, s, changes);
   }
 }
 

@@ -216,6 +216,10 @@ class SurfaceStore {
   void forEachCentroidInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, F&& f) const;
   /// Faces sharing an edge with `s`.
   void neighbours(Slot s, std::vector<Slot>& out) const;
+  /// Calls f(slot) for every face other than `s` that shares a vertex with it (a face sharing an
+  /// edge is reported twice).
+  template <class F>
+  void forEachVertexNeighbour(Slot s, F&& f) const;
 
  private:
   using CellKey = std::uint64_t;
@@ -281,6 +285,17 @@ void SurfaceStore::forEachInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d
         if (e & skip) continue;
         f(static_cast<Slot>(e & kSlotMask));
       }
+    }
+  }
+}
+
+template <class F>
+void SurfaceStore::forEachVertexNeighbour(Slot s, F&& f) const {
+  for (const mesher::VertexKey& v : faces_[s].vertices) {
+    const auto it = by_vertex_.find(v);
+    if (it == by_vertex_.end()) continue;
+    for (const Slot t : it->second) {
+      if (t != s) f(t);
     }
   }
 }

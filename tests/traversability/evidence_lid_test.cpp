@@ -1,0 +1,159 @@
+// Lids: level faces the 2-manifold keeps over space that rays saw as free (a pit whose rim and
+// floor are both on the surface). Neither the lid nor the faces around its vertices, under which
+// the same void may reach, is free ground.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "evidence_faces.h"
+#include "test_support/traversability_scenes.h"
+#include "traversability/layer_registry.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::traversability {
+namespace {
+
+TEST(EvidenceTest, ALidThatRaysSawUnderIsNeverFree) {
+  // A dense floor at 0; over the square |x - 1| < 0.5, |y| < 0.5 rays crossed the cell behind
+  // the faces, 0.4 m deep (a pit whose rim and floor are both on the surface, closed by a lid the
+  // 2-manifold keeps). The lid is no measured ground: a 0.4 m drop (limit 0.18 m) may lie under
+  // it, so it and every footprint that reaches it are uncertain; farther away the floor is free.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const auto lid = [&](std::size_t f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    return std::abs(c.x() - 1) < 0.5 && std::abs(c.y()) < 0.5;
+  };
+  const auto withRaysBehind = [&](std::uint32_t crossings) {
+    std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      if (!lid(f)) continue;
+      faces[f].back_crossings = crossings;
+      faces[f].back_depth = 0.4;
+    }
+    return layersOf(faces, profile);
+  };
+  const std::vector<FaceLayers> layers = withRaysBehind(static_cast<std::uint32_t>(profile.min_rays));
+  std::size_t lids = 0, near = 0, far = 0;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    const double outside = std::max(std::abs(c.x() - 1), std::abs(c.y())) - 0.5;  // to the lid's edge
+    if (lid(f)) {
+      ++lids;
+      EXPECT_EQ(layers[f].evidence, Evidence::kInterpolated);
+      EXPECT_GE(layers[f].height_uncertainty_m, 0.4f);
+      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain);
+    } else if (outside < r - 0.1 && std::abs(c.y()) < 0.4) {
+      ++near;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at " << c.transpose();
+      EXPECT_TRUE(layers[f].reasons & reason::kWorstCaseRelief) << layers[f].reasons;
+    } else if (outside > r + 0.1 && std::abs(c.x()) < 2.5 && std::abs(c.y()) < 2.5) {
+      ++far;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at " << c.transpose();
+    }
+  }
+  EXPECT_GT(lids, 150u);
+  EXPECT_GT(near, 50u);
+  EXPECT_GT(far, 500u);
+  // Fewer rays behind than the profile trusts (a point's noise): measured, and free.
+  const std::vector<FaceLayers> noise = withRaysBehind(static_cast<std::uint32_t>(profile.min_rays - 1));
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    if (!lid(f)) continue;
+    EXPECT_EQ(noise[f].evidence, Evidence::kMeasured);
+    EXPECT_EQ(noise[f].face_class, FaceClass::kFree);
+  }
+}
+
+/// Horizontal distance from p to triangle f of mesh (0 inside it).
+double distanceToFace(const mesher::TriangleMesh& mesh, std::size_t f, const Eigen::Vector2d& p) {
+  std::array<Eigen::Vector2d, 3> v;
+  for (int k = 0; k < 3; ++k) v[static_cast<std::size_t>(k)] = mesh.vertices[mesh.faces[f][static_cast<std::size_t>(k)]].head<2>();
+  const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+  bool positive = true, negative = true;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Eigen::Vector2d& a = v[k];
+    const Eigen::Vector2d e = v[(k + 1) % 3] - a;
+    const double t = std::clamp((p - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (a + t * e - p).norm());
+    const double side = cross(e, p - a);
+    positive = positive && side >= 0;
+    negative = negative && side <= 0;
+  }
+  return positive || negative ? 0.0 : best;
+}
+
+TEST(EvidenceTest, TheVoidUnderALidMayReachUnderTheFacesAroundIt) {
+  // A floor at 0 meshed from points 1.5 m apart (SLAM density); rays crossed the cell behind one
+  // level face, 0.4 m deep. Where the pit ends between the rim points its lid spans and the ground
+  // points beyond them, nothing shows: the faces around the lid's vertices may hide the same 0.4 m
+  // drop (limit 0.18 m) and are uncertain, even where a footprint at their centroid does not reach
+  // the lid; faces beyond them that no footprint of theirs reaches stay free.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const mesher::TriangleMesh mesh = test::heightFieldMesh(-6, 6, -6, 6, 1.5, [](double, double) { return 0.0; });
+  std::size_t lid = mesh.faces.size();
+  for (std::size_t f = 0; f < mesh.faces.size() && lid == mesh.faces.size(); ++f) {
+    if (distanceToFace(mesh, f, Eigen::Vector2d(0.2, 0.3)) == 0.0) lid = f;
+  }
+  ASSERT_LT(lid, mesh.faces.size());
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  faces[lid].back_crossings = static_cast<std::uint32_t>(profile.min_rays);
+  faces[lid].back_depth = 0.4;
+  const std::vector<FaceLayers> layers = layersOf(faces, profile);
+  const auto sharesVertex = [&](std::size_t f) {
+    for (const auto a : mesh.faces[f]) {
+      for (const auto b : mesh.faces[lid]) {
+        if (a == b) return true;
+      }
+    }
+    return false;
+  };
+  std::vector<std::size_t> around;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    if (f != lid && sharesVertex(f)) around.push_back(f);
+  }
+  EXPECT_EQ(layers[lid].face_class, FaceClass::kUncertain);
+  std::size_t beyond_footprint = 0, far = 0;
+  for (std::size_t f : around) {
+    const Eigen::Vector2d c = centroid(mesh, f).head<2>();
+    EXPECT_EQ(layers[f].evidence, Evidence::kMeasured) << "face " << f;
+    EXPECT_GE(layers[f].height_uncertainty_m, 0.4f) << "face " << f;
+    EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at " << c.transpose();
+    EXPECT_TRUE(layers[f].reasons & reason::kWorstCaseRelief) << layers[f].reasons;
+    // Without the lid's depth around its vertices, these would be free: their footprint misses it.
+    if (distanceToFace(mesh, lid, c) > r + 0.05) ++beyond_footprint;
+  }
+  EXPECT_GE(around.size(), 9u);
+  EXPECT_GT(beyond_footprint, 3u);
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const Eigen::Vector2d c = centroid(mesh, f).head<2>();
+    if (std::max(std::abs(c.x()), std::abs(c.y())) > 4.5) continue;  // near the map's edge
+    double nearest = distanceToFace(mesh, lid, c);
+    for (std::size_t g : around) nearest = std::min(nearest, distanceToFace(mesh, g, c));
+    if (nearest <= r + 0.05) continue;
+    ++far;
+    EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at " << c.transpose();
+    EXPECT_LT(layers[f].height_uncertainty_m, 0.1f);
+  }
+  EXPECT_GT(far, 10u);
+  // A void the robot can step down into (0.15 m, limit 0.18 m) leaves the faces around the lid as
+  // they were: those whose footprint misses the lid are free.
+  faces[lid].back_depth = 0.15;
+  const std::vector<FaceLayers> shallow = layersOf(faces, profile);
+  for (std::size_t f : around) {
+    const Eigen::Vector2d c = centroid(mesh, f).head<2>();
+    EXPECT_LT(shallow[f].height_uncertainty_m, 0.1f) << "face " << f;
+    if (distanceToFace(mesh, lid, c) > r + 0.05) {
+      EXPECT_EQ(shallow[f].face_class, FaceClass::kFree) << "at " << c.transpose();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace terramesh::traversability
