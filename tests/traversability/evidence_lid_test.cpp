@@ -1,6 +1,6 @@
-// Lids: level faces the 2-manifold keeps over space that rays saw as free (a pit whose rim and
-// floor are both on the surface). Neither the lid nor the faces around its vertices, under which
-// the same void may reach, is free ground.
+// Faces the 2-manifold keeps over space that rays saw as free. A level one is a lid (over a pit
+// whose rim and floor are both on the surface): neither it nor the faces around its vertices,
+// under which the same void may reach, is free ground. A steep one is no measured wall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -152,6 +152,49 @@ TEST(EvidenceTest, TheVoidUnderALidMayReachUnderTheFacesAroundIt) {
     if (distanceToFace(mesh, lid, c) > r + 0.05) {
       EXPECT_EQ(shallow[f].face_class, FaceClass::kFree) << "at " << c.transpose();
     }
+  }
+}
+
+TEST(EvidenceTest, AWallWithRaysBehindItIsUncertainNotLethal) {
+  // A 2 m wall over a floor, with rays through the space in front of it. With at least min_rays
+  // rays through the cell behind it as well, the space it closes off was seen free: it is a
+  // membrane the 2-manifold keeps, not a measured wall, so it is uncertain (a guessed wall) and
+  // the floor beside it, whose footprint meets it, is uncertain too, not lethal. With fewer (a
+  // point's noise) it is a measured wall: lethal, both.
+  const RobotProfile profile = smallWheeled();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  test::appendMesh(mesh, test::thinWall(0, -2, 0, 2, 0, 2.0));
+  const auto near_floor = [&](std::size_t f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    return f < floor_faces && std::abs(c.x()) < 0.2 && std::abs(c.y()) < 1.5;
+  };
+  const auto min_rays = static_cast<std::uint32_t>(profile.min_rays);
+  for (const std::uint32_t behind : {min_rays, min_rays - 1}) {
+    std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+    for (std::size_t f = floor_faces; f < faces.size(); ++f) {
+      faces[f].back_crossings = behind;
+      faces[f].back_depth = 0.5;
+    }
+    const std::vector<FaceLayers> layers = layersOf(faces, profile);
+    const bool seen_behind = behind >= min_rays;
+    const FaceClass want = seen_behind ? FaceClass::kUncertain : FaceClass::kLethal;
+    std::size_t floors = 0;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+      if (f >= floor_faces) {
+        EXPECT_EQ(layers[f].face_class, want) << "wall face, rays behind " << behind;
+        EXPECT_EQ(layers[f].evidence, seen_behind ? Evidence::kInterpolated : Evidence::kMeasured);
+        EXPECT_TRUE(layers[f].reasons & (seen_behind ? reason::kGuessedWall : reason::kTooSteep))
+            << "wall face, rays behind " << behind << ": reasons " << layers[f].reasons;
+      } else if (near_floor(f)) {
+        ++floors;
+        EXPECT_EQ(layers[f].face_class, want) << "floor beside the wall, rays behind " << behind;
+        if (seen_behind) {
+          EXPECT_TRUE(layers[f].reasons & reason::kPossibleObstacle) << layers[f].reasons;
+        }
+      }
+    }
+    EXPECT_GT(floors, 20u);
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include "mesher/mesher.h"
 #include "test_support/traversability_scenes.h"
+#include "traversability/layer_registry.h"
 #include "traversability/robot_profile_yaml.h"
 #include "traversability/traversability_map.h"
 
@@ -118,15 +119,19 @@ void checkStep(double height, bool passable, const std::string& robot_name = "sm
   if (passable) {
     EXPECT_LE(lethal, spanning.size() / 10) << "the curb is passable";
   } else {
+    // Every face spanning the ledge is lethal, but for one rays saw behind (a chord across the
+    // corner, with free space under it): a guessed wall, uncertain. None is free.
     std::string passing;
     for (const FaceView& f : spanning) {
       if (f.layers->face_class == FaceClass::kLethal) continue;
+      if (f.layers->face_class == FaceClass::kUncertain && (f.layers->reasons & reason::kGuessedWall)) continue;
       passing += "\n  face at (" + std::to_string(f.centroid.x()) + ", " + std::to_string(f.centroid.y()) + ", " +
                  std::to_string(f.centroid.z()) + "): z " + std::to_string(f.min_z) + ".." + std::to_string(f.max_z) +
                  ", slope " + std::to_string(f.layers->slope_deg) + " deg, step " + std::to_string(f.layers->step_m) +
                  " m, contact " + std::to_string(f.layers->contact) + ", rays " + std::to_string(f.layers->rays);
     }
-    EXPECT_EQ(lethal, spanning.size()) << "the ledge is not; passing:" << passing;
+    EXPECT_TRUE(passing.empty()) << "the ledge is not; passing:" << passing;
+    EXPECT_GE(lethal, spanning.size() * 9 / 10);
   }
 }
 

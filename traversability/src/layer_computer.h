@@ -87,12 +87,14 @@ class LayerComputer {
   /// (slopeSupport), so TraversabilityMap sets it again when they change. Returns whether the
   /// evidence, the bound or the relief changed.
   bool setEvidence(SurfaceStore& store, Slot s) const;
-  /// A lid: a face no steeper than max_slope_deg with at least max(1, min_rays) rays through the
-  /// cell behind it (rays saw the space it closes off as free).
-  bool isLid(const StoredFace& f) const {
-    return f.normal_L.z() >= cos_max_slope_ &&
-           f.back_crossings >= static_cast<std::uint32_t>(std::max(1, profile_.min_rays));
+  /// Whether rays saw the space a face closes off as free: at least max(1, min_rays) rays crossed
+  /// the cell behind it (fewer: a point's noise). The 2-manifold keeps such a face; it is no
+  /// measured surface.
+  bool seenBehind(const StoredFace& f) const {
+    return f.back_crossings >= static_cast<std::uint32_t>(std::max(1, profile_.min_rays));
   }
+  /// A lid: a face seen behind (seenBehind) no steeper than max_slope_deg.
+  bool isLid(const StoredFace& f) const { return f.normal_L.z() >= cos_max_slope_ && seenBehind(f); }
   /// How deep the void under a lid may be (the depth of the cell behind it,
   /// StoredFace::back_depth_m); 0 for any other face.
   double lidDepthM(const StoredFace& f) const { return isLid(f) ? f.back_depth_m : 0.0; }

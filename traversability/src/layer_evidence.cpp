@@ -40,11 +40,11 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
     const bool observed = f.front_crossings > 0;
     const bool bridge = f.driven_vertices > 0 && !(f.normal_L.z() >= cos_max_slope_) &&
                         f.max_z - f.min_z > profile_.max_step_m;
-    // Ground that rays crossed the cell behind: the space the face closes off was seen free. The
-    // face is then a lid the 2-manifold keeps (over a pit whose rim and floor are both on the
-    // surface), not a measured surface, and the ground beneath may be as deep as that cell
-    // reaches. (A steep face stays what it is: a wall, judged as one.)
-    const bool seen_through = isLid(f);
+    // Rays crossed the cell behind: the space the face closes off was seen free. The face is then
+    // a membrane the 2-manifold keeps, not a measured surface: a level one is a lid (over a pit
+    // whose rim and floor are both on the surface), and the ground beneath may be as deep as that
+    // cell reaches; a steep one is a guessed wall, never a measured one.
+    const bool seen_through = seenBehind(f);
     evidence = observed && !bridge && !seen_through ? Evidence::kMeasured : Evidence::kInterpolated;
     relief = g.span_m * (observed ? m.relief_per_m_observed : m.relief_per_m_unobserved);
     relief = std::max(relief, lidDepthM(f));

@@ -12,6 +12,7 @@
 
 #include "common/plan_frame.h"
 #include "plan_geometry.h"
+#include "traversability/layer_registry.h"
 #include "traversability/map_levels.h"
 
 namespace terramesh::traversability {
@@ -142,9 +143,11 @@ Levels segmentLevels(const LayeredMesh& map, const MapPlane& plane, const LevelC
   std::vector<std::vector<std::pair<CellKey, HeightRange>>> footprints(face_count);
   for (std::size_t f = 0; f < face_count; ++f) {
     plans[f] = internal::planFace(mesh, f, plane);
-    // Levels are the surfaces a robot may stand on: free, or measured but uncertain.
+    // Levels are the surfaces a robot may stand on: free, or uncertain but no guessed wall (a
+    // face too steep to stand on that nobody measured: a curtain the mesh keeps between floors).
     const FaceClass c = map.layers[f].face_class;
-    walkable[f] = (c == FaceClass::kFree || c == FaceClass::kUncertain) && plans[f].up_cosine > 0.05;
+    const bool guessed_wall = (map.layers[f].reasons & reason::kGuessedWall) != 0;
+    walkable[f] = (c == FaceClass::kFree || (c == FaceClass::kUncertain && !guessed_wall)) && plans[f].up_cosine > 0.05;
     if (walkable[f]) footprints[f] = internal::cellHeightRanges(plans[f], config.overlap_cell_m);
   }
   const auto neighbours = faceNeighbours(mesh);
