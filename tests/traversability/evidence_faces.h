@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "mesher/surface_delta.h"
@@ -46,16 +47,51 @@ inline std::vector<mesher::SurfaceFace> facesOf(const mesher::TriangleMesh& mesh
   return faces;
 }
 
-/// The layers of `faces` in the order given (the map's snapshot sorts by key).
-inline std::vector<FaceLayers> layersOf(const std::vector<mesher::SurfaceFace>& faces, const RobotProfile& profile) {
-  TraversabilityMap map(profile, MapFrame{});
-  map.reset(faces);
+/// The layers of a map's faces by key.
+inline std::map<mesher::FaceKey, FaceLayers> layersByKey(const TraversabilityMap& map) {
   const LayeredMesh snapshot = map.snapshot();
   std::map<mesher::FaceKey, FaceLayers> by_key;
   for (std::size_t f = 0; f < snapshot.layers.size(); ++f) by_key.emplace(snapshot.face_keys[f], snapshot.layers[f]);
+  return by_key;
+}
+
+/// The layers of `faces` by key, with the drive's poses if given.
+inline std::map<mesher::FaceKey, FaceLayers> layersByKey(const std::vector<mesher::SurfaceFace>& faces,
+                                                         const RobotProfile& profile,
+                                                         const DrivePoseLookup& poses = {}) {
+  TraversabilityMap map(profile, MapFrame{});
+  if (poses) map.setDrivePoses(poses);
+  map.reset(faces);
+  return layersByKey(map);
+}
+
+/// The layers of `faces` in the order given (the map's snapshot sorts by key).
+inline std::vector<FaceLayers> layersOf(const std::vector<mesher::SurfaceFace>& faces, const RobotProfile& profile) {
+  const std::map<mesher::FaceKey, FaceLayers> by_key = layersByKey(faces, profile);
   std::vector<FaceLayers> out;
   for (const mesher::SurfaceFace& face : faces) out.push_back(by_key.at(face.key));
   return out;
+}
+
+/// A drive along y = 0: the first `floor_faces` faces are driven ground where all their vertices
+/// lie within `half_width` of that line.
+inline void driveAlongX(std::vector<mesher::SurfaceFace>& faces, std::size_t floor_faces, double half_width) {
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    bool on_strip = true;
+    for (const auto& p : faces[f].positions_W) on_strip = on_strip && std::abs(p.y()) <= half_width + 1e-9;
+    faces[f].driven_vertices = on_strip ? 3 : 0;
+  }
+}
+
+/// For a drive along y = 0: the robot's base where each vertex of `mesh` lies, on that line
+/// beside it, facing +x (`mesh` must outlive the lookup).
+inline DrivePoseLookup basesAlongX(const mesher::TriangleMesh& mesh) {
+  return [&mesh](mesher::PointId id) -> std::optional<Eigen::Isometry3d> {
+    if (id.value >= mesh.vertices.size()) return std::nullopt;
+    Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+    base.translation() = Eigen::Vector3d(mesh.vertices[id.value].x(), 0, 0);
+    return base;
+  };
 }
 
 /// The centroid of face f.

@@ -226,9 +226,10 @@ TEST(EvidenceTest, OnDrivenGroundOnlyTheSupportedPartsOfALongFaceAreObstacles) {
 TEST(EvidenceTest, OnDrivenGroundSlantedFacesCountBeyondTheStripTheBodySwept) {
   // A driven strip (|y| <= 0.3, the drive along y = 0) and two measured slanted faces: one
   // floating over the strip in the body's volume (the robot drove through it: contradicted), one
-  // rising at 45 degrees from y = 0.45, beyond the strip (its part inside the body lies at y
-  // 0.63-0.95). Without the drive's poses the drive contradicts both wholly; with them, the faces
-  // of the strip whose footprint reaches beyond its side towards the second face are not free,
+  // rising at 45 degrees from y = 0.3, facing the strip (its part inside the body lies at y
+  // 0.48-0.8, beyond the strip's side at the robot's radius). Without the drive's poses the drive
+  // contradicts both wholly; with them, the faces of the strip whose footprint reaches beyond its
+  // side to the second face are not free,
   // those on the far half still are. Incrementally the same as a full computation, also when
   // driven ground under the floating face goes.
   const RobotProfile profile = smallWheeled();
@@ -236,30 +237,14 @@ TEST(EvidenceTest, OnDrivenGroundSlantedFacesCountBeyondTheStripTheBodySwept) {
   const std::size_t floor_faces = mesh.faces.size();
   mesher::TriangleMesh slanted;
   slanted.vertices = {{-3, -0.1, 0.3}, {3, -0.1, 0.3}, {3, 0.1, 0.45}, {-3, 0.1, 0.45},
-                      {-3, 0.45, 0.0}, {3, 0.45, 0.0}, {3, 1.45, 1.0}, {-3, 1.45, 1.0}};
+                      {-3, 0.3, 0.0}, {3, 0.3, 0.0}, {3, 1.3, 1.0}, {-3, 1.3, 1.0}};
   slanted.faces = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
   test::appendMesh(mesh, slanted);
   std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
-  for (std::size_t f = 0; f < floor_faces; ++f) {
-    bool on_strip = true;
-    for (const auto& p : faces[f].positions_W) on_strip = on_strip && std::abs(p.y()) <= 0.3 + 1e-9;
-    faces[f].driven_vertices = on_strip ? 3 : 0;
-  }
-  // The robot's base where each driven sample lies: on the centre line beside it, facing +x.
-  const DrivePoseLookup poses = [&](mesher::PointId id) -> std::optional<Eigen::Isometry3d> {
-    if (id.value >= mesh.vertices.size()) return std::nullopt;
-    Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
-    base.translation() = Eigen::Vector3d(mesh.vertices[id.value].x(), 0, 0);
-    return base;
-  };
+  driveAlongX(faces, floor_faces, 0.3);
+  const DrivePoseLookup poses = basesAlongX(mesh);
   const auto classes = [&](const std::vector<mesher::SurfaceFace>& input, bool with_poses) {
-    TraversabilityMap map(profile, MapFrame{});
-    if (with_poses) map.setDrivePoses(poses);
-    map.reset(input);
-    std::map<mesher::FaceKey, FaceLayers> by_key;
-    const LayeredMesh snapshot = map.snapshot();
-    for (std::size_t f = 0; f < snapshot.layers.size(); ++f) by_key.emplace(snapshot.face_keys[f], snapshot.layers[f]);
-    return by_key;
+    return layersByKey(input, profile, with_poses ? poses : DrivePoseLookup{});
   };
   for (const bool with_poses : {false, true}) {
     const std::map<mesher::FaceKey, FaceLayers> layers = classes(faces, with_poses);

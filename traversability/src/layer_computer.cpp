@@ -410,18 +410,21 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
       // faces show it) is contradicted by the drive. A face slanted through the volume is
       // contradicted where the body swept it: inside the strip along the drive's centre line,
       // over driven ground (addUnsweptParts); a footprint centred off that line reaches beyond
-      // the strip, where nobody drove. Near-vertical faces still count: an obstacle placed later
-      // (a parked car) stands on the road with vertical sides, where its points support them
-      // (collectSupportedParts). Elsewhere a face anchored on driven ground is only a possible
-      // obstacle.
+      // the strip, where nobody drove. So is interpolated geometry of any slope (a guessed wall, a
+      // closing face): nothing measured stands inside the strip. Measured near-vertical faces
+      // still count: an obstacle placed later (a parked car) stands on the road with vertical
+      // sides, where its points support them (collectSupportedParts); beyond the strip, what they
+      // support may extend as anywhere, but not into the strip. Elsewhere a face anchored on
+      // driven ground is only a possible obstacle.
       const bool anchored = driven && tg.touches_driven;
       const bool slanted = driven && !anchored && tg.normal_z > kMaxBridgeNormalZ;
+      const bool unmeasured = driven && !anchored && tg.interpolated;
       if (driven && !anchored && !slanted && !tg.interpolated) {
-        collectSupportedParts(tg, c, ref_a, ref_b);
+        collectSupportedParts(store.face(s), tg, c, ref_a, ref_b);
       } else if (!anchored && clipToBody(tg, c, ref_a, ref_b, o)) {
         o.possible = tg.interpolated || tg.touches_driven;
-        o.extension_m = o.possible ? 0.0 : obstacleExtensionM(tg);
-        if (slanted) {
+        if (!o.possible) setExtension(o, tg, c);
+        if (slanted || unmeasured) {
           addUnsweptParts(store, store.face(s), o, z_lo, z_hi, obstacle_reach);
         } else {
           obstacles_.push_back(o);

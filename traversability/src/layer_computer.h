@@ -214,19 +214,29 @@ class LayerComputer {
     double badness = 0;   ///< largest layer / limit ratio (smaller is better)
   };
 
+  /// Most corners of an obstacle's shadow or its grown shape.
+  static constexpr int kMaxObstacleCorners = 12;
   /// The horizontal shadow, relative to the centroid, of the part of a face inside the robot's
   /// body (between max_step_m and min_clearance_m above the reference plane), and the height of
   /// its top above the plane.
   struct Obstacle {
     /// Convex polygon: a triangle clipped by two planes, and over driven ground by the two sides
     /// of the swept strip.
-    std::array<Eigen::Vector2d, 7> p;
+    std::array<Eigen::Vector2d, kMaxObstacleCorners> p;
     int n = 0;
     double top_m = 0;
     /// From interpolated geometry: a possible obstacle (never lethal, never free).
     bool possible = false;
     /// How far a measured obstacle may extend beyond its face (EvidenceModel::obstacle_extension).
     double extension_m = 0;
+    /// Where a measured steep face may extend (setExtension): along the face and behind it, and
+    /// towards its front (the horizontal unit normal; zero: none, grown every way by
+    /// extension_m) only ahead_m.
+    Eigen::Vector2d front = Eigen::Vector2d::Zero();
+    double ahead_m = 0;
+    /// The part grown so (growAlongFace, when first asked; -1: not yet, 0: grown every way).
+    mutable std::array<Eigen::Vector2d, kMaxObstacleCorners> grown;
+    mutable int grown_n = -1;
     /// An unconfirmed SLAM point (collectUnconfirmed), grown by its extension.
     bool unconfirmed = false;
     /// A part beyond a side of the strip a drive swept (addUnsweptParts): it lies where
@@ -245,7 +255,10 @@ class LayerComputer {
   /// the corner triangles within evidence.obstacle_support_m of each such vertex along its edges.
   /// The rest of a long span is interpolated across the volume the robot's body swept: the drive
   /// contradicts it.
-  void collectSupportedParts(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b) const;
+  /// Parts beyond the strip face f's drive swept are split off as for addUnsweptParts (with
+  /// their extension); the part inside counts whole.
+  void collectSupportedParts(const StoredFace& f, const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a,
+                             double ref_b) const;
   /// Per heading, the top of the highest measured obstacle (obstacles_) the footprint meets, 0 if
   /// none, for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp); and in
   /// possible_, per heading, the reason:: bit of the first possible obstacle the footprint at the
@@ -262,6 +275,9 @@ class LayerComputer {
   /// Whether the footprint centred at `at` (relative to the centroid) at heading k, grown by
   /// `margin_m` on every side (a rectangle: its half-extents), meets the obstacle.
   bool meets(const Obstacle& o, std::size_t heading, const Eigen::Vector2d& at, double margin_m = 0) const;
+  /// The same for `shape` (count points) in place of o's own polygon (o gives the strip's side).
+  bool meetsShape(const Obstacle& o, const Eigen::Vector2d* shape, int count, std::size_t heading,
+                  const Eigen::Vector2d& at, double margin_m) const;
 
   /// Whether every corner p[0..n) (relative to the centroid c) lies over driven ground within the
   /// height window [z_lo, z_hi].
@@ -277,6 +293,15 @@ class LayerComputer {
   /// Without a drive axis the strip is unknown and the drive contradicts all of it.
   void addUnsweptParts(const SurfaceStore& store, const StoredFace& f, const Obstacle& o, double z_lo,
                        double z_hi, double reach_m) const;
+  /// Over driven face f with a drive axis: adds to obstacles_ the parts of o beyond either side of
+  /// the strip the drive swept (beyond_strip), sets `inside` to the part between the sides (n 0:
+  /// none) and returns true. Without a drive axis: adds nothing and returns false.
+  bool pushBeyondStrip(const StoredFace& f, const Obstacle& o, Obstacle& inside) const;
+  /// For a part beyond a side of the swept strip (shadow.beyond_strip): whether the footprint's
+  /// part beyond that side (a disc's: its bounding box there), centred at `at` and turned to
+  /// `heading`, comes within margin_m of `shape` (count points: the part, or its grown shape).
+  bool beyondSideWithin(const Obstacle& shadow, const Eigen::Vector2d* shape, int count, std::size_t heading,
+                        const Eigen::Vector2d& at, double margin_m) const;
   /// Half the width of the strip the body sweeps: a rectangle's half width, a disc's radius.
   double sweptHalfWidthM() const {
     return profile_.footprint == FootprintShape::kDisc ? profile_.footprint_radius_m : 0.5 * profile_.footprint_width_m;
@@ -311,6 +336,15 @@ class LayerComputer {
                              double own_relief_m, bool driven) const;
   /// How far the measured obstacle face t may extend beyond what was measured of it.
   double obstacleExtensionM(const SampleGeometry& t) const;
+  /// Sets the extension of o, a measured obstacle part of face t relative to centroid c:
+  /// obstacleExtensionM(t), and for a face steeper than 30 degrees (kMinFrontNormalXy) its front
+  /// and how far ahead of the part the face reaches (Obstacle::front, ahead_m).
+  void setExtension(Obstacle& o, const SampleGeometry& t, const Eigen::Vector3d& c) const;
+  /// Sets o.grown: o grown along its face and behind it, and ahead_m in front.
+  static void growAlongFace(const Obstacle& o);
+  /// Whether the footprint centred at `at` at heading k meets where o may extend (o itself, grown
+  /// by its extension).
+  bool meetsExtension(const Obstacle& o, std::size_t heading, const Eigen::Vector2d& at) const;
   /// What supports face s's slope: whether it rises no more than max_step_m between its vertices
   /// or its plane is confirmed beyond it along its slope (a measured vertex of an edge neighbour,
   /// farther up or down the slope than the face's own vertices, within the point noise of the

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "face_projection.h"
 #include "layer_computer.h"
@@ -19,6 +20,9 @@ constexpr double kBodyToleranceM = 1e-9;
 /// A part must reach this far across a side of the swept strip to lie beyond it (far more than
 /// rounding).
 constexpr double kSweptSideToleranceM = 1e-6;
+/// A face whose normal's horizontal part is at least this long (steeper than 30 degrees) has a
+/// front: where it may extend is along it and behind it.
+constexpr double kMinFrontNormalXy = 0.5;
 
 /// Sutherland-Hodgman: the part of convex polygon `in` (n points) where normal . p >= bound, into
 /// `out` (room for n + 1 points); 0 if it only touches the line (a footprint touching the line
@@ -36,6 +40,43 @@ int clipToHalfPlane(const Eigen::Vector2d* in, int n, const Eigen::Vector2d& nor
     reach = std::max(reach, dp);
   }
   return reach > kSweptSideToleranceM ? m : 0;
+}
+
+/// Distance from p to segment [a, b].
+double segmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d e = b - a;
+  const double len2 = e.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(e) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * e - p).norm();
+}
+
+/// Whether convex polygons a (na points) and b (nb points; either may be a segment or a point)
+/// come within d of each other (touching counts).
+bool withinDistance(const Eigen::Vector2d* a, int na, const Eigen::Vector2d* b, int nb, double d) {
+  // Overlap: no edge normal of either separates them.
+  bool tested = false, separated = false;
+  for (const auto& [p, n, q, m] : {std::tuple(a, na, b, nb), std::tuple(b, nb, a, na)}) {
+    for (int i = 0; i < n && !separated && n >= 2; ++i) {
+      const Eigen::Vector2d e = p[(i + 1) % n] - p[i];
+      if (!(e.squaredNorm() > 0)) continue;
+      const Eigen::Vector2d axis(-e.y(), e.x());
+      double lo_p = std::numeric_limits<double>::infinity(), hi_p = -lo_p, lo_q = lo_p, hi_q = -lo_p;
+      for (int j = 0; j < n; ++j) lo_p = std::min(lo_p, axis.dot(p[j])), hi_p = std::max(hi_p, axis.dot(p[j]));
+      for (int j = 0; j < m; ++j) lo_q = std::min(lo_q, axis.dot(q[j])), hi_q = std::max(hi_q, axis.dot(q[j]));
+      tested = true;
+      separated = hi_p < lo_q || hi_q < lo_p;
+    }
+  }
+  if (tested && !separated) return true;
+  // Apart: the nearest points are a vertex of one and an edge (or the point) of the other.
+  for (const auto& [p, n, q, m] : {std::tuple(a, na, b, nb), std::tuple(b, nb, a, na)}) {
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < m; ++j) {
+        if (segmentDistance(p[i], q[j], q[(j + 1) % m]) <= d) return true;
+      }
+    }
+  }
+  return false;
 }
 
 }  // namespace
@@ -80,8 +121,8 @@ bool LayerComputer::clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c
   return true;
 }
 
-void LayerComputer::collectSupportedParts(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a,
-                                          double ref_b) const {
+void LayerComputer::collectSupportedParts(const StoredFace& f, const SampleGeometry& t, const Eigen::Vector3d& c,
+                                          double ref_a, double ref_b) const {
   const Eigen::Vector3d v[3] = {{t.x0, t.y0, t.z0}, {t.x0 + t.bx, t.y0 + t.by, t.z1}, {t.x0 + t.cx, t.y0 + t.cy, t.z2}};
   const double support = profile_.evidence.obstacle_support_m;
   for (int i = 0; i < 3; ++i) {
@@ -110,15 +151,21 @@ void LayerComputer::collectSupportedParts(const SampleGeometry& t, const Eigen::
     Obstacle o;
     if (!clipToBody(corner, c, ref_a, ref_b, o)) continue;
     o.possible = false;
-    o.extension_m = obstacleExtensionM(t);
-    obstacles_.push_back(o);
+    setExtension(o, t, c);
+    // Beyond the strip the body swept it may extend as anywhere; its extension into the strip is
+    // contradicted by the drive. A part inside the strip (something there while the robot drove
+    // past, or placed later) counts whole, with its extension.
+    Obstacle inside;
+    if (!pushBeyondStrip(f, o, inside)) {
+      obstacles_.push_back(o);
+    } else if (inside.n > 0) {
+      obstacles_.push_back(inside);
+    }
   }
 }
 
-void LayerComputer::addUnsweptParts(const SurfaceStore& store, const StoredFace& f, const Obstacle& o, double z_lo,
-                                    double z_hi, double reach_m) const {
-  // Without the drive's centre line the strip is unknown: the drive contradicts the part whole.
-  if (!(f.drive_axis.squaredNorm() > 0)) return;
+bool LayerComputer::pushBeyondStrip(const StoredFace& f, const Obstacle& o, Obstacle& inside) const {
+  if (!(f.drive_axis.squaredNorm() > 0)) return false;
   // The strip |across| <= half width about the drive's centre line, across = n . p - offset
   // (p relative to the centroid).
   const Eigen::Vector2d n(-f.drive_axis.y(), f.drive_axis.x());
@@ -134,13 +181,21 @@ void LayerComputer::addUnsweptParts(const SurfaceStore& store, const StoredFace&
     beyond.side_offset = half + sign * offset;
     obstacles_.push_back(beyond);
   }
+  Obstacle half_strip = o;
+  inside = o;
+  half_strip.n = clipToHalfPlane(o.p.data(), o.n, n, offset - half, half_strip.p.data());
+  inside.n = clipToHalfPlane(half_strip.p.data(), half_strip.n, -n, -(offset + half), inside.p.data());
+  return true;
+}
+
+void LayerComputer::addUnsweptParts(const SurfaceStore& store, const StoredFace& f, const Obstacle& o, double z_lo,
+                                    double z_hi, double reach_m) const {
+  // Without the drive's centre line the strip is unknown: the drive contradicts the part whole.
+  Obstacle inside;
+  if (!pushBeyondStrip(f, o, inside) || inside.n == 0) return;
   // Inside, the part not over driven ground (the strip ends where the drive began or stopped),
   // judged at the corners of what lies within the footprints' reach (a box reach_m about the
   // centroid): corners farther away could not change what a footprint meets.
-  Obstacle inside = o, half_strip = o;
-  half_strip.n = clipToHalfPlane(o.p.data(), o.n, n, offset - half, half_strip.p.data());
-  inside.n = clipToHalfPlane(half_strip.p.data(), half_strip.n, -n, -(offset + half), inside.p.data());
-  if (inside.n == 0) return;
   std::array<Eigen::Vector2d, 12> a, b;
   std::copy(inside.p.begin(), inside.p.begin() + inside.n, a.begin());
   int m = inside.n;
@@ -188,8 +243,94 @@ void LayerComputer::collectUnconfirmed(const StoredFace& f, double ref_a, double
   });
 }
 
+bool LayerComputer::beyondSideWithin(const Obstacle& shadow, const Eigen::Vector2d* shape, int count,
+                                    std::size_t heading, const Eigen::Vector2d& at, double margin_m) const {
+  const Eigen::Vector2d& n = shadow.side_normal;
+  std::array<Eigen::Vector2d, 4> footprint;
+  if (profile_.footprint == FootprintShape::kDisc) {
+    // The disc's segment beyond the side, within its bounding box (so never less).
+    const Eigen::Vector2d t(-n.y(), n.x());
+    const double r = radius_m_, far = n.dot(at) + r, width = far - shadow.side_offset;
+    const double chord = width < r ? std::sqrt(std::max(0.0, r * r - (r - width) * (r - width))) : r;
+    const double mid = t.dot(at);
+    footprint = {n * shadow.side_offset + t * (mid - chord), n * far + t * (mid - chord), n * far + t * (mid + chord),
+                 n * shadow.side_offset + t * (mid + chord)};
+  } else {
+    const Eigen::Vector2d u = heading_axes_[heading].first * (0.5 * profile_.footprint_length_m);
+    const Eigen::Vector2d v = heading_axes_[heading].second * (0.5 * profile_.footprint_width_m);
+    footprint = {at + u + v, at - u + v, at - u - v, at + u - v};
+  }
+  std::array<Eigen::Vector2d, 5> beyond;
+  const int m = clipToHalfPlane(footprint.data(), 4, n, shadow.side_offset, beyond.data());
+  return m > 0 && withinDistance(beyond.data(), m, shape, count, margin_m);
+}
+
+void LayerComputer::setExtension(Obstacle& o, const SampleGeometry& t, const Eigen::Vector3d& c) const {
+  o.extension_m = obstacleExtensionM(t);
+  const double front_length = t.normal_xy.norm();
+  if (!(o.extension_m > 0) || !(front_length >= kMinFrontNormalXy) || o.n == 0) return;
+  // In front, as far as the face itself reaches below the body (that span is interpolated too).
+  o.front = t.normal_xy / front_length;
+  double part_front = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < o.n; ++i) part_front = std::max(part_front, o.front.dot(o.p[static_cast<std::size_t>(i)]));
+  const Eigen::Vector2d v0(t.x0 - c.x(), t.y0 - c.y());
+  const double face_front = std::max({o.front.dot(v0), o.front.dot(v0 + Eigen::Vector2d(t.bx, t.by)),
+                                      o.front.dot(v0 + Eigen::Vector2d(t.cx, t.cy))});
+  o.ahead_m = std::clamp(face_front - part_front, 0.0, o.extension_m);
+}
+
+void LayerComputer::growAlongFace(const Obstacle& o) {
+  // The part grown by the half disc of radius e behind the face (its diameter along the face),
+  // within the half octagon about it, and by ahead_m in front: the Minkowski sum's convex hull
+  // (Andrew's monotone chain). (The parts a part is split into grow to the same union.)
+  const Eigen::Vector2d& front = o.front;
+  const Eigen::Vector2d along(-front.y(), front.x());
+  const double e = o.extension_m, k = e * std::tan(M_PI / 8), ahead = o.ahead_m;
+  const std::array<Eigen::Vector2d, 6> offsets{along * e + front * ahead, -along * e + front * ahead,
+                                               along * e - front * k,     -along * e - front * k,
+                                               along * k - front * e,     -along * k - front * e};
+  std::array<Eigen::Vector2d, 6 * kMaxObstacleCorners> points;
+  int count = 0;
+  for (int i = 0; i < o.n; ++i) {
+    for (const Eigen::Vector2d& d : offsets) points[static_cast<std::size_t>(count++)] = o.p[static_cast<std::size_t>(i)] + d;
+  }
+  std::sort(points.begin(), points.begin() + count,
+            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+  std::array<Eigen::Vector2d, 6 * kMaxObstacleCorners + 1> hull;
+  int h = 0;
+  const auto cross = [](const Eigen::Vector2d& o2, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o2.x()) * (b.y() - o2.y()) - (a.y() - o2.y()) * (b.x() - o2.x());
+  };
+  for (int pass = 0; pass < 2; ++pass) {
+    const int start = h;
+    for (int j = 0; j < count; ++j) {
+      const Eigen::Vector2d& q = points[static_cast<std::size_t>(pass == 0 ? j : count - 1 - j)];
+      while (h >= start + 2 && cross(hull[static_cast<std::size_t>(h - 2)], hull[static_cast<std::size_t>(h - 1)], q) <= 0) --h;
+      hull[static_cast<std::size_t>(h++)] = q;
+    }
+    --h;  // the last point of each chain starts the other
+  }
+  // (At most o.n + 6 corners in exact arithmetic; more: judged as grown every way.)
+  o.grown_n = h <= kMaxObstacleCorners ? h : 0;
+  std::copy(hull.begin(), hull.begin() + o.grown_n, o.grown.begin());
+}
+
+bool LayerComputer::meetsExtension(const Obstacle& o, std::size_t heading, const Eigen::Vector2d& at) const {
+  // The grown shape is within the footprint grown by the extension every way (up to the half
+  // octagon's corners): both must meet it.
+  if (!meets(o, heading, at, o.extension_m)) return false;
+  if (!(o.front.squaredNorm() > 0)) return true;
+  if (o.grown_n < 0) growAlongFace(o);
+  return o.grown_n == 0 || meetsShape(o, o.grown.data(), o.grown_n, heading, at, 0.0);
+}
+
 bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eigen::Vector2d& at,
                           double margin_m) const {
+  return meetsShape(shadow, shadow.p.data(), shadow.n, heading, at, margin_m);
+}
+
+bool LayerComputer::meetsShape(const Obstacle& shadow, const Eigen::Vector2d* shape, int count, std::size_t heading,
+                               const Eigen::Vector2d& at, double margin_m) const {
   if (shadow.beyond_strip) {
     // The footprint's farthest reach across the strip's side.
     const Eigen::Vector2d& n = shadow.side_normal;
@@ -198,18 +339,22 @@ bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eig
                               : 0.5 * profile_.footprint_length_m * std::abs(n.dot(heading_axes_[heading].first)) +
                                     0.5 * profile_.footprint_width_m * std::abs(n.dot(heading_axes_[heading].second));
     if (!(n.dot(at) + extent > shadow.side_offset + kSweptSideToleranceM)) return false;
+    // Its extension reaches only the footprint's part beyond the side (the drive swept the rest).
+    if ((margin_m > 0 || shape != shadow.p.data()) && !beyondSideWithin(shadow, shape, count, heading, at, margin_m)) {
+      return false;
+    }
   }
-  // The shadow relative to the footprint's centre `at`.
-  Obstacle o = shadow;
-  for (int i = 0; i < o.n; ++i) o.p[static_cast<std::size_t>(i)] -= at;
-  const int n = o.n;
+  // The shape relative to the footprint's centre `at`.
+  std::array<Eigen::Vector2d, kMaxObstacleCorners> rel;
+  const int n = std::min(count, kMaxObstacleCorners);
+  for (int i = 0; i < n; ++i) rel[static_cast<std::size_t>(i)] = shape[i] - at;
   if (profile_.footprint == FootprintShape::kDisc) {
     // Inside the polygon (strictly: a degenerate one has no inside) or within R of an edge.
     const double r2 = (radius_m_ + margin_m) * (radius_m_ + margin_m);
     bool positive = true, negative = true;
     for (int i = 0; i < n; ++i) {
-      const Eigen::Vector2d& p = o.p[static_cast<std::size_t>(i)];
-      const Eigen::Vector2d& q = o.p[static_cast<std::size_t>((i + 1) % n)];
+      const Eigen::Vector2d& p = rel[static_cast<std::size_t>(i)];
+      const Eigen::Vector2d& q = rel[static_cast<std::size_t>((i + 1) % n)];
       const Eigen::Vector2d e = q - p;
       const double len2 = e.squaredNorm();
       const double t = len2 > 0 ? std::clamp(-p.dot(e) / len2, 0.0, 1.0) : 0.0;
@@ -227,7 +372,7 @@ bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eig
   const auto separated = [&](const Eigen::Vector2d& axis, double half) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (int i = 0; i < n; ++i) {
-      const double d = o.p[static_cast<std::size_t>(i)].dot(axis);
+      const double d = rel[static_cast<std::size_t>(i)].dot(axis);
       lo = std::min(lo, d);
       hi = std::max(hi, d);
     }
@@ -235,7 +380,7 @@ bool LayerComputer::meets(const Obstacle& shadow, std::size_t heading, const Eig
   };
   if (separated(u, half_a) || separated(v, half_b)) return false;
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2d e = o.p[static_cast<std::size_t>((i + 1) % n)] - o.p[static_cast<std::size_t>(i)];
+    const Eigen::Vector2d e = rel[static_cast<std::size_t>((i + 1) % n)] - rel[static_cast<std::size_t>(i)];
     if (!(e.squaredNorm() > 0)) continue;
     const Eigen::Vector2d normal(-e.y(), e.x());
     if (separated(normal, half_a * std::abs(normal.dot(u)) + half_b * std::abs(normal.dot(v)))) return false;
@@ -251,7 +396,7 @@ std::uint16_t LayerComputer::possibleCauses(std::size_t heading) const {
   std::uint16_t causes = 0;
   for (const Obstacle& o : obstacles_) {
     const std::uint16_t cause = causeOf(o);
-    if (!(causes & cause) && meets(o, heading, Eigen::Vector2d::Zero(), o.extension_m)) causes |= cause;
+    if (!(causes & cause) && meetsExtension(o, heading, Eigen::Vector2d::Zero())) causes |= cause;
   }
   return causes;
 }
@@ -273,7 +418,7 @@ const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool
   // (the first one met per heading; possibleCauses lists them all where that is asked).
   for (const Obstacle& o : obstacles_) {
     for (std::size_t k = 0; k < headings; ++k) {
-      if (!possible_[k] && meets(o, k, Eigen::Vector2d::Zero(), o.extension_m)) possible_[k] = causeOf(o);
+      if (!possible_[k] && meetsExtension(o, k, Eigen::Vector2d::Zero())) possible_[k] = causeOf(o);
     }
   }
   const int n = obstaclePoints(f, steep, points);

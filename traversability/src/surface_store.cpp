@@ -113,6 +113,7 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   g.min_z = f.min_z;
   g.max_z = f.max_z;
   g.normal_z = f.normal_L.z();
+  g.normal_xy = f.normal_L.head<2>();
   g.steiner = f.steiner;
   g.touches_driven = f.driven_vertices > 0;
   g.driven = f.driven_vertices == 3 && !f.steiner;

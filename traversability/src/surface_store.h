@@ -113,6 +113,7 @@ struct SampleGeometry {
   double z0 = 0, z1 = 0, z2 = 0;          ///< vertex heights
   double min_z = 0, max_z = 0;
   double normal_z = 1;
+  Eigen::Vector2d normal_xy = Eigen::Vector2d::Zero();  ///< the normal's horizontal part (towards the front)
   bool sampleable = false;  ///< the projection is not degenerate (heightAt can find it)
   bool steiner = false;
   /// The face's evidence is interpolated (closing geometry or an unobserved span): as an obstacle

@@ -1,0 +1,100 @@
+// Where a sparsely measured obstacle may extend: along its face and behind it, never towards its
+// front (the rays that measured it crossed that space), and over driven ground never into the
+// strip the robot's body swept.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "evidence_faces.h"
+#include "test_support/traversability_scenes.h"
+#include "traversability/layer_registry.h"
+#include "traversability/traversability_map.h"
+
+namespace terramesh::traversability {
+namespace {
+
+/// A one-sided vertical wall in the plane x = x0 from y0 to y1, `height` tall, facing +x (its
+/// front), as two triangles (sparse: four points).
+mesher::TriangleMesh wallFacingPlusX(double x0, double y0, double y1, double height) {
+  mesher::TriangleMesh wall;
+  wall.vertices = {{x0, y0, 0}, {x0, y1, 0}, {x0, y1, height}, {x0, y0, height}};
+  wall.faces = {{0, 1, 2}, {0, 2, 3}};
+  return wall;
+}
+
+TEST(ObstacleExtensionTest, AMeasuredWallMayExtendAlongItselfAndBehindItNotTowardsItsFront) {
+  // A 1.5 m wall along x = 0 for -5 < y < 0, facing +x, measured by four points: it may extend
+  // max_obstacle_extension_m past its free end and behind it. The floor in front, where a robot's
+  // footprint stays clear of the wall by less than that, is free; the floor behind it at the
+  // same distance and beyond the free end is uncertain, for the wall's possible extension alone.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const double cap = profile.evidence.max_obstacle_extension_m;
+  ASSERT_GT(cap, 0.2);
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-4, 4, -6, 4, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  test::appendMesh(mesh, wallFacingPlusX(0, -5, 0, 1.5));
+  const std::vector<FaceLayers> layers = layersOf(facesOf(mesh, 4), profile);
+  const double gap = r + 0.5 * cap;  // from the wall to the footprint's centre
+  const auto expectAt = [&](double x, double y, FaceClass want, const char* where) {
+    std::size_t judged = 0;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      if (std::abs(c.x() - x) >= 0.025 || std::abs(c.y() - y) >= 0.025) continue;
+      ++judged;
+      EXPECT_EQ(layers[f].face_class, want) << where << " at (" << c.x() << ", " << c.y() << ")";
+      if (want == FaceClass::kUncertain) {
+        EXPECT_EQ(layers[f].reasons, reason::kObstacleExtension) << where;
+      }
+    }
+    EXPECT_GT(judged, 0u) << where;
+  };
+  expectAt(gap, -2.45, FaceClass::kFree, "in front of the wall");
+  expectAt(-gap, -2.45, FaceClass::kUncertain, "behind the wall");
+  expectAt(0.05, gap, FaceClass::kUncertain, "beyond its free end");
+  // Beyond what it may extend to, front and back alike.
+  expectAt(-(r + cap + 0.15), -2.45, FaceClass::kFree, "far behind the wall");
+}
+
+TEST(ObstacleExtensionTest, OnDrivenGroundAnObstacleMayExtendOnlyBeyondTheStripTheBodySwept) {
+  // A driven strip (|y| <= the robot's radius, the drive along y = 0) and, beyond it, a measured
+  // 0.4 m wall across the drive's direction (x = 0, 0.6 < y < 3) whose free end points at the
+  // strip: it may extend 0.5 m along itself, into the strip, where the robot's body swept. With
+  // the drive's poses that part is contradicted: the strip's faces whose footprint stays inside
+  // it are free, those whose footprint reaches past the side towards the wall are not. Without
+  // the poses the strip is unknown and the extension counts everywhere.
+  const RobotProfile profile = smallWheeled();
+  const double half = profile.footprint_radius_m;
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  test::appendMesh(mesh, wallFacingPlusX(0, 0.6, 3, 0.4));
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  driveAlongX(faces, floor_faces, half);
+  for (const bool with_poses : {false, true}) {
+    const std::map<mesher::FaceKey, FaceLayers> layers =
+        layersByKey(faces, profile, with_poses ? basesAlongX(mesh) : DrivePoseLookup{});
+    std::size_t inside = 0, reaching = 0;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      if (faces[f].driven_vertices != 3 || std::abs(c.x()) > 0.1) continue;
+      const FaceLayers& got = layers.at(faces[f].key);
+      if (c.y() < -0.03 && c.y() > -0.2) {
+        // The footprint stays on the strip's side of its +y edge, and within the extension's reach.
+        ++inside;
+        EXPECT_EQ(got.face_class, with_poses ? FaceClass::kFree : FaceClass::kUncertain)
+            << "poses " << with_poses << " at (" << c.x() << ", " << c.y() << ")";
+      } else if (c.y() > 0.1 && c.y() < 0.24) {
+        // The footprint reaches past that edge, not to the wall itself.
+        ++reaching;
+        EXPECT_EQ(got.face_class, FaceClass::kUncertain) << "poses " << with_poses << " at (" << c.x() << ", " << c.y() << ")";
+        EXPECT_TRUE(got.reasons & reason::kObstacleExtension) << "poses " << with_poses;
+      }
+    }
+    EXPECT_GT(inside, 4u);
+    EXPECT_GT(reaching, 4u);
+  }
+}
+
+}  // namespace
+}  // namespace terramesh::traversability
