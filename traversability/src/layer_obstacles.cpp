@@ -42,14 +42,6 @@ int clipToHalfPlane(const Eigen::Vector2d* in, int n, const Eigen::Vector2d& nor
   return reach > kSweptSideToleranceM ? m : 0;
 }
 
-/// Distance from p to segment [a, b].
-double segmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d e = b - a;
-  const double len2 = e.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(e) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * e - p).norm();
-}
-
 /// Whether convex polygons a (na points) and b (nb points; either may be a segment or a point)
 /// come within d of each other (touching counts).
 bool withinDistance(const Eigen::Vector2d* a, int na, const Eigen::Vector2d* b, int nb, double d) {
@@ -72,7 +64,7 @@ bool withinDistance(const Eigen::Vector2d* a, int na, const Eigen::Vector2d* b, 
   for (const auto& [p, n, q, m] : {std::tuple(a, na, b, nb), std::tuple(b, nb, a, na)}) {
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j < m; ++j) {
-        if (segmentDistance(p[i], q[j], q[(j + 1) % m]) <= d) return true;
+        if ((closestPointOnSegment(p[i], q[j], q[(j + 1) % m]) - p[i]).norm() <= d) return true;
       }
     }
   }
