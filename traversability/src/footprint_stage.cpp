@@ -56,7 +56,15 @@ void FootprintStage::markNearUnconfirmedChanges(const SurfaceStore& store, std::
   const Eigen::Vector2d r(reach, reach);
   for (const Eigen::Vector3d& p : point_changes_) {
     store.forEachInBox(p.head<2>() - r, p.head<2>() + r, [&](Slot s) {
-      if (!marks_.marked(s) && computer_.unconfirmedInBody(store.face(s), p)) markDirty(s, dirty);
+      if (marks_.marked(s)) return;
+      // The grid's cells reach beyond the box: a face whose own box lies farther than the reach
+      // cannot hold the point in its body (the dense bounds first, the face after).
+      const FaceBounds& b = store.bounds(s);
+      if ((p.head<2>().array() < b.box_min.array() - reach).any() ||
+          (p.head<2>().array() > b.box_max.array() + reach).any()) {
+        return;
+      }
+      if (computer_.unconfirmedInBody(store.face(s), p)) markDirty(s, dirty);
     });
   }
   point_changes_.clear();

@@ -200,16 +200,16 @@ void LayerComputer::addUnsweptParts(const SurfaceStore& store, const StoredFace&
 
 bool LayerComputer::unconfirmedInBody(const StoredFace& f, double ref_a, double ref_b, const Eigen::Vector3d& p,
                                       Eigen::Vector2d& offset) const {
-  // Where the robot stands on the face closest to the point: a planner may put it anywhere on it.
-  const Eigen::Vector2d at = closestPoint(p.head<2>(), projectionOf(f));
-  offset = p.head<2>() - at;
-  if (offset.norm() > unconfirmedReachM()) return false;
   const Eigen::Vector2d d = p.head<2>() - f.centroid_L.head<2>();
   const double height = p.z() - f.centroid_L.z() - ref_a * d.x() - ref_b * d.y();
   // A point over the step is in the body; a lower one that stands proud of the ground belongs to
   // something whose top may be (EvidenceModel::proud_point_rise_m).
   const double lowest = std::min(profile_.max_step_m, profile_.evidence.proud_point_rise_m);
-  return height > lowest + kBodyToleranceM && height <= profile_.min_clearance_m;
+  if (!(height > lowest + kBodyToleranceM && height <= profile_.min_clearance_m)) return false;
+  // Where the robot stands on the face closest to the point: a planner may put it anywhere on it.
+  const Eigen::Vector2d at = closestPoint(p.head<2>(), projectionOf(f));
+  offset = p.head<2>() - at;
+  return offset.norm() <= unconfirmedReachM();
 }
 
 bool LayerComputer::unconfirmedInBody(const StoredFace& f, const Eigen::Vector3d& p) const {

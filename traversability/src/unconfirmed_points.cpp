@@ -18,13 +18,13 @@ void UnconfirmedPoints::replace(const std::vector<mesher::UnconfirmedPoint>& poi
     const auto it = next.find(id);
     if (it != next.end() && it->second == p_L) continue;
     changed_L.push_back(p_L);  // removed, or moved away from here
-    grid_.erase(p_L.head<2>(), id);
+    grid_.erase(p_L.head<2>(), Entry{id, p_L});
   }
   for (const auto& [id, p_L] : next) {
     const auto it = points_.find(id);
     if (it != points_.end() && it->second == p_L) continue;
     changed_L.push_back(p_L);  // added, or moved here
-    grid_.add(p_L.head<2>(), id);
+    grid_.add(p_L.head<2>(), Entry{id, p_L});
   }
   points_ = std::move(next);
 }

@@ -27,10 +27,7 @@ class UnconfirmedPoints {
   template <class Visit>
   void forEachInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, Visit visit) const {
     if (points_.empty()) return;
-    const bool done = grid_.inBox(lo, hi, points_.size(), [&](std::uint64_t id) {
-      const auto it = points_.find(id);
-      if (it != points_.end()) visit(it->second);
-    });
+    const bool done = grid_.inBox(lo, hi, points_.size(), [&](const Entry& entry) { visit(entry.p_L); });
     if (done) return;
     for (const auto& entry : points_) visit(entry.second);
   }
@@ -40,8 +37,14 @@ class UnconfirmedPoints {
  private:
   Eigen::Matrix3d R_L_W_;
   double metres_per_unit_;
+  /// A point as the grid lists it: with its position, so that a box query reads no map.
+  struct Entry {
+    std::uint64_t id = 0;
+    Eigen::Vector3d p_L = Eigen::Vector3d::Zero();
+    bool operator==(const Entry& other) const { return id == other.id; }
+  };
   HashMap<std::uint64_t, Eigen::Vector3d> points_;
-  HorizontalGrid<std::uint64_t> grid_;
+  HorizontalGrid<Entry> grid_;
 };
 
 }  // namespace terramesh::traversability::internal
