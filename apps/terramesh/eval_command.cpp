@@ -16,6 +16,7 @@
 #include "datasets/similarity_transform.h"
 #include "datasets/triangle_bvh.h"
 #include "mesher/mesh_io.h"
+#include "run_extras.h"
 
 namespace terramesh::cli {
 namespace {
@@ -28,6 +29,8 @@ using evaluation::DistanceStats;
 struct EvalOptions {
   std::string mesh;
   std::optional<std::string> gt_mesh, views, gt_lidar, poses, sim3, report;
+  /// Without --views or a trajectory.txt beside the truth: the run's own trajectory.csv beside MESH.
+  std::optional<std::string> run_trajectory;
   std::string frames = "0:10";
   std::optional<double> steiner_grid_step;
   std::size_t stride_px = 8;
@@ -48,7 +51,8 @@ void declareOptions(CLI::App& app, EvalOptions& o) {
       ->option_text("FILE");
   app.add_option("--views", o.views,
                  "with --gt-mesh: camera poses to render depth from (KITTI format; default: trajectory.txt beside "
-                 "the truth, as terramesh generate writes it)")
+                 "the truth, as terramesh generate writes it, else the keyframes of trajectory.csv beside MESH, "
+                 "as terramesh mesh writes it)")
       ->option_text("FILE");
   app.add_option("--gt-lidar", o.gt_lidar, "ground truth: a KITTI odometry sequence (velodyne/*.bin, calib.txt)")
       ->option_text("DIR");
@@ -137,19 +141,43 @@ std::vector<evaluation::EvaluationView> readViews(const std::filesystem::path& p
   return views;
 }
 
+/// The keyframes of a run's trajectory.csv as views, mapped like the mesh (--sim3), every step-th.
+std::vector<evaluation::EvaluationView> readRunViews(const EvalOptions& options, std::size_t step) {
+  const std::vector<TrajectoryRow> rows = readTrajectoryCsv(*options.run_trajectory);
+  std::optional<datasets::SimilarityTransform> sim3;
+  if (options.sim3) sim3 = datasets::readSimilarityTransform(*options.sim3);
+  std::vector<evaluation::EvaluationView> views;
+  for (std::size_t i = 0; i < rows.size(); i += step) {
+    const TrajectoryRow& row = rows[i];
+    views.push_back({sim3 ? sim3->apply(row.position_W) : row.position_W,
+                     sim3 ? sim3->apply(row.rotation_W_C) : row.rotation_W_C});
+  }
+  return views;
+}
+
 /// Checks the truth options; without --views, the views of --gt-mesh are the trajectory.txt that
-/// `terramesh generate` writes beside it (said on stderr).
+/// `terramesh generate` writes beside it, else the keyframes of the trajectory.csv that `terramesh
+/// mesh` writes beside MESH (said on stderr).
 /// @throw UsageError for a missing or contradictory option.
 void resolveTruthOptions(EvalOptions& options) {
   const bool lidar = options.gt_lidar.has_value();
   if (lidar == options.gt_mesh.has_value()) throw UsageError("eval: give exactly one of --gt-mesh and --gt-lidar");
   if (!lidar && !options.views) {
     const std::filesystem::path beside = std::filesystem::path(*options.gt_mesh).parent_path() / "trajectory.txt";
-    if (!std::filesystem::is_regular_file(beside)) {
-      throw UsageError("eval: --gt-mesh needs --views FILE (no trajectory.txt beside " + *options.gt_mesh + ")");
+    const std::filesystem::path run = std::filesystem::path(options.mesh).parent_path() / "trajectory.csv";
+    if (std::filesystem::is_regular_file(beside)) {
+      options.views = beside.string();
+      if (!options.quiet) std::cerr << "eval: views: " << beside.string() << ", beside the truth (--views overrides)\n";
+    } else if (std::filesystem::is_regular_file(run)) {
+      options.run_trajectory = run.string();
+      if (!options.quiet) {
+        std::cerr << "eval: views: the keyframes of " << run.string() << ", beside the mesh"
+                  << (options.sim3 ? " (mapped by --sim3)" : "") << " (--views overrides)\n";
+      }
+    } else {
+      throw UsageError("eval: --gt-mesh needs --views FILE (no trajectory.txt beside " + *options.gt_mesh +
+                       ", no trajectory.csv beside " + options.mesh + ")");
     }
-    options.views = beside.string();
-    if (!options.quiet) std::cerr << "eval: views: " << beside.string() << ", beside the truth (--views overrides)\n";
   }
   if (lidar && !options.poses) throw UsageError("eval: --gt-lidar needs --poses FILE");
   if (!lidar && options.poses) throw UsageError("eval: --poses goes with --gt-lidar (use --views)");
@@ -204,7 +232,8 @@ std::vector<evaluation::DepthRay> readTruth(const EvalOptions& options, const De
   }
   const mesher::TriangleMesh truth_mesh = mesher::readMesh(*options.gt_mesh);
   const datasets::TriangleBvh truth_bvh(truth_mesh);
-  const auto views = readViews(*options.views, options.view_step);
+  const auto views =
+      options.run_trajectory ? readRunViews(options, options.view_step) : readViews(*options.views, options.view_step);
   std::vector<evaluation::DepthRay> rays = evaluation::renderTruthRays(truth_bvh, views, camera, config);
   accuracy = evaluation::distancesToSurface(samples, truth_bvh);
   report << "truth mesh " << *options.gt_mesh << '\n' << "truth_views " << views.size() << '\n';

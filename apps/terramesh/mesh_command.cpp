@@ -162,6 +162,8 @@ class MeshJob {
   MeshRunState state_;
   std::optional<mesher::Mesher> mesher_;
   std::vector<std::string> frame_comments_;
+  /// What the configuration took from the data (describeInferredSettings), for stderr and the summary.
+  std::vector<std::string> inferred_;
   std::ostringstream csv_;
   mesher::UpdateStats totals_;
   std::size_t keyframes_ = 0;
@@ -181,6 +183,10 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   if (tile_) tile_->selectInput(stream_, input_);
   if (o.resume_path) resumed_ = readMeshCheckpoint(*o.resume_path, stream_);
   config_ = resumed_ ? resumed_->mesher.config() : mesherConfigFrom(o.mesher, mode, stream_);
+  if (!resumed_) inferred_ = describeInferredSettings(o.mesher, stream_, config_);
+  if (!o.quiet) {
+    for (const std::string& line : inferred_) std::cerr << "terramesh: inferred: " << line << '\n';
+  }
   traversability_ = TraversabilitySession::fromOptions(o.traversability, stream_, config_.metres_per_unit, output_);
   if (tile_) tile_->attach(*traversability_, exportConfigFrom(o.traversability.exports), config_.metres_per_unit);
   evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr);
@@ -277,6 +283,7 @@ void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesyst
           << "\nmetres_per_unit: " << config_.metres_per_unit << "\nkeyframes: " << keyframes_
           << "\nevents: " << events().size() << "\nmesh: " << mesh_path.string() << " ("
           << describeTopology(mesher::analyzeTopology(mesh)) << ")\n";
+  for (const std::string& line : inferred_) summary << "inferred: " << line << '\n';
   for (const std::string& note : stream_.reader_notes) summary << "input: " << note << '\n';
   for (const std::string& warning : stream_.reader_warnings) summary << "warning: " << warning << '\n';
   if (tile_) summary << tile_->describe() << '\n';

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <sstream>
 
 namespace terramesh::cli {
 
@@ -132,6 +133,41 @@ void addMesherOptions(CLI::App& app, MesherOptions& options) {
 bool autoMaxDistance(const MesherOptions& options, const datasets::SlamStream& stream) {
   if (options.max_distance_m) return *options.max_distance_m == "auto";
   return stream.recommend_auto_max_distance && !options.metres_per_unit;
+}
+
+std::vector<std::string> describeInferredSettings(const MesherOptions& options, const datasets::SlamStream& stream,
+                                                  const mesher::MesherConfig& config) {
+  std::vector<std::string> lines;
+  std::ostringstream scale;
+  scale << "scale: " << config.metres_per_unit << " m per map unit";
+  if (options.metres_per_unit) {
+    scale << ", from --metres-per-unit";
+  } else if (stream.scale_known) {
+    scale << ", as the input states it (--metres-per-unit overrides)";
+  } else {
+    scale << " assumed: the input states no scale (--metres-per-unit sets it)";
+  }
+  lines.push_back(scale.str());
+  std::string views = "min_views: " + std::to_string(config.min_views);
+  if (options.min_views) {
+    views += ", from --min-views";
+  } else if (stream.recommended_min_views > 0) {
+    views += ", as the input advises (--min-views overrides)";
+  } else {
+    views += ", the mesher's default: the input advises none (--min-views overrides)";
+  }
+  lines.push_back(views);
+  const Eigen::Vector3d& up = stream.sensor_up_S;
+  std::ostringstream axis;
+  // (+ 0.0: no "-0" in the text.)
+  axis << "sensor up axis: " << up.x() + 0.0 << "," << up.y() + 0.0 << "," << up.z() + 0.0 << " in the sensor frame"
+       << (up == -Eigen::Vector3d::UnitY() ? " (a camera: x right, y down)"
+           : up == Eigen::Vector3d::UnitZ() ? " (a scanner: z up)"
+                                             : "")
+       << ", from the input; up in the map follows from it over every keyframe (the profile's gravity "
+          "or traverse's --up overrides)";
+  lines.push_back(axis.str());
+  return lines;
 }
 
 mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::MesherMode mode,

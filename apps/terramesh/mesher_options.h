@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cli_args.h"
 #include "datasets/slam_stream.h"
@@ -48,6 +49,11 @@ bool autoMaxDistance(const MesherOptions& options, const datasets::SlamStream& s
 /// @throw UsageError for invalid values (with every problem listed).
 mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::MesherMode mode,
                                       const datasets::SlamStream& stream);
+
+/// What mesherConfigFrom took from the data rather than from a flag, one sentence each, with the
+/// flag that overrides it: the scale, the views a point needs, the sensor's up axis.
+std::vector<std::string> describeInferredSettings(const MesherOptions& options, const datasets::SlamStream& stream,
+                                                  const mesher::MesherConfig& config);
 
 /// Bounding box of every camera centre and observed position in the stream.
 mesher::AxisAlignedBox streamBounds(const datasets::SlamStream& stream);

@@ -1,14 +1,19 @@
 #include "run_extras.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 #include <unordered_map>
 #include <variant>
 #include <vector>
 
 #include "common/atomic_file.h"
+#include "common/input_error.h"
 
 namespace terramesh::cli {
 namespace {
@@ -48,6 +53,58 @@ std::string trajectoryCsv(const datasets::SlamStream& stream) {
         << ',' << q.x() << ',' << q.y() << ',' << q.z() << '\n';
   }
   return csv.str();
+}
+
+std::vector<TrajectoryRow> readTrajectoryCsv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  const std::string file = path.string();
+  if (!in) throw InputError(file, "file", "cannot open it (expected trajectory.csv of terramesh mesh)");
+  const char* const kHeader = "keyframe,id,x,y,z,qw,qx,qy,qz";
+  std::string line;
+  if (!std::getline(in, line) || line != kHeader) {
+    throw InputError(file, lineLocation(1), std::string("expected the header `") + kHeader + "`");
+  }
+  std::vector<TrajectoryRow> rows;
+  std::unordered_map<std::uint64_t, std::size_t> index;
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    std::vector<std::string> fields;
+    std::stringstream split(line);
+    for (std::string field; std::getline(split, field, ',');) fields.push_back(field);
+    if (fields.size() != 9) throw InputError(file, lineLocation(number), "expected 9 comma-separated fields");
+    const auto where = [&](int k) { return lineLocation(number) + ", field " + std::to_string(k + 1); };
+    double values[9];
+    for (int k = 0; k < 9; ++k) {
+      const std::string& field = fields[static_cast<std::size_t>(k)];
+      char* end = nullptr;
+      values[k] = std::strtod(field.c_str(), &end);
+      if (field.empty() || *end != '\0' || !std::isfinite(values[k])) {
+        throw InputError(file, where(k), "expected a finite number, got `" + field + "`");
+      }
+    }
+    TrajectoryRow row;
+    const std::string& id = fields[1];
+    char* end = nullptr;
+    errno = 0;
+    row.id = std::strtoull(id.c_str(), &end, 10);
+    if (id.empty() || id[0] == '-' || *end != '\0' || errno == ERANGE) {
+      throw InputError(file, where(1), "expected a non-negative integer keyframe id, got `" + id + "`");
+    }
+    row.position_W = Eigen::Vector3d(values[2], values[3], values[4]);
+    row.rotation_W_C = Eigen::Quaterniond(values[5], values[6], values[7], values[8]);
+    if (std::abs(row.rotation_W_C.norm() - 1.0) > 1e-2) {
+      throw InputError(file, lineLocation(number) + ", fields 6-9", "expected a unit quaternion qw,qx,qy,qz");
+    }
+    row.rotation_W_C.normalize();
+    const auto [it, inserted] = index.try_emplace(row.id, rows.size());
+    if (inserted) {
+      rows.push_back(row);
+    } else {
+      rows[it->second] = row;
+    }
+  }
+  if (rows.empty()) throw InputError(file, "rows", "expected at least one keyframe row");
+  return rows;
 }
 
 std::string pointsPly(const datasets::SlamStream& stream) {

@@ -1,7 +1,9 @@
 """What the data holds, the commands take without a flag (issue 23, "No flag a user must guess"):
-`terramesh mesh` records the scale, up and sensor height it inferred in mesh.ply's header;
+`terramesh mesh` says which settings it took from the stream and records the scale, up and
+sensor height it inferred in mesh.ply's header;
 `traverse` takes scale and up from there, `traverse-eval --road-under-path` the sensor height, and
-`eval --gt-mesh` the views from trajectory.txt beside the truth. Flags override; a malformed record
+`eval --gt-mesh` the views from trajectory.txt beside the truth, else from the run's own
+trajectory.csv beside the mesh. Flags override; a malformed record
 exits 2 naming the file and line.
 
 Run by ctest with: python3 -m unittest cli_inference_test (TERRAMESH_BIN and TERRAMESH_SHARED_DIR set).
@@ -136,12 +138,59 @@ class InferredFrameTest(unittest.TestCase):
         with open(os.path.join(self.scene, "trajectory.txt")) as f:
             poses = sum(1 for line in f if line.strip())
         self.assertEqual(int(report_values(report)["truth_views"]), len(range(0, poses, 10)))
-        alone = self.path("alone")
+
+    def test_mesh_says_what_it_took_from_the_stream_and_what_from_a_flag(self):
+        with open(os.path.join(self.map, "summary.txt")) as f:
+            summary = f.read()
+        self.assertIn("inferred: scale: 1 m per map unit, as the input states it", summary)
+        self.assertIn("inferred: min_views: 2, the mesher's default: the input advises none", summary)
+        self.assertIn("inferred: sensor up axis: 0,-1,0 in the sensor frame (a camera", summary)
+        out = self.path("overridden")
+        result = run("mesh", self.stream, "-o", out, "--metres-per-unit", "2", "--min-views", "3")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("terramesh: inferred: scale: 2 m per map unit, from --metres-per-unit", result.stderr)
+        self.assertIn("terramesh: inferred: min_views: 3, from --min-views", result.stderr)
+
+    def test_eval_takes_the_views_of_the_run_without_a_trajectory_beside_the_truth(self):
+        truth = os.path.join(self.scene, "ground_truth.ply")
+        mesh = os.path.join(self.map, "mesh.ply")
+        alone = self.path("truth_alone")
         os.makedirs(alone)
         shutil.copy(truth, alone)
-        result = run("eval", mesh, "--gt-mesh", os.path.join(alone, "ground_truth.ply"), "--quiet")
+        truth_alone = os.path.join(alone, "ground_truth.ply")
+        # The stream's keyframes are the poses trajectory.txt lists: the same views, the same report.
+        beside, from_run = self.path("beside.txt"), self.path("from_run.txt")
+        common = ["--samples", "2000", "--view-step", "10"]
+        self.assertEqual(run("eval", mesh, "--gt-mesh", truth, *common, "--report", beside).returncode, 0)
+        result = run("eval", mesh, "--gt-mesh", truth_alone, *common, "--report", from_run)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("the keyframes of " + os.path.join(self.map, "trajectory.csv"), result.stderr)
+        a, b = report_values(beside), report_values(from_run)
+        self.assertGreater(int(b["truth_views"]), 1)
+        for key in a:
+            if key != "truth":
+                self.assertEqual(a[key], b[key], key)
+        # Neither beside the truth nor beside the mesh: a clear usage error.
+        mesh_alone = self.path("mesh_alone")
+        os.makedirs(mesh_alone)
+        shutil.copy(mesh, mesh_alone)
+        result = run("eval", os.path.join(mesh_alone, "mesh.ply"), "--gt-mesh", truth_alone, "--quiet")
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("no trajectory.txt beside", result.stderr)
+        self.assertIn("no trajectory.csv beside", result.stderr)
+        # A malformed trajectory.csv names its file, line and field.
+        with open(os.path.join(self.map, "trajectory.csv")) as f:
+            lines = f.read().splitlines()
+        fields = lines[2].split(",")
+        fields[6] = "nan"
+        lines[2] = ",".join(fields)
+        with open(os.path.join(mesh_alone, "trajectory.csv"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+        result = run("eval", os.path.join(mesh_alone, "mesh.ply"), "--gt-mesh", truth_alone, "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("trajectory.csv", result.stderr)
+        self.assertIn("line 3, field 7", result.stderr)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
 
 
 if __name__ == "__main__":
