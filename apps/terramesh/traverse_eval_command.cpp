@@ -25,6 +25,7 @@
 #include "evaluation/traversability_score.h"
 #include "evaluation/truth_checker.h"
 #include "mesher/mesh_io.h"
+#include "run_extras.h"
 #include "traversability/layer_registry.h"
 #include "traversability/map_directory.h"
 
@@ -62,8 +63,10 @@ void declareOptions(CLI::App& app, TraverseEvalOptions& o) {
   app.add_option("--sample-edge-m", o.sample_edge_m, "map faces are split to edges <= E, each piece judged at its centroid")
       ->check(non_negative);
   app.add_option("--road-under-path", o.road_under_path,
-                 "real data: the map's classes on the road under the keyframe centres of STREAM (map units)")
-      ->option_text("STREAM");
+                 "real data: the map's classes on the road under the keyframe centres of STREAM (map units), or of "
+                 "a run's trajectory.csv; without a value (after MAP_DIR), MAP_DIR/trajectory.csv")
+      ->option_text("[STREAM]")
+      ->expected(0, 1);
   app.add_option("--camera-height-m", o.camera_height_m,
                  "with --road-under-path: the road lies H below the camera (default: the sensor height MAP_DIR/mesh.ply "
                  "records, else KITTI's 1.65)")
@@ -331,14 +334,34 @@ void reportGroundUnderPath(const TraverseEvalOptions& options, const traversabil
   reportReasons(report, "lidar", g.reason_fraction);
 }
 
+/// The keyframes of a run's trajectory.csv (run_extras.h), by id, at their latest poses.
+void keyframePath(const std::vector<TrajectoryRow>& rows, std::vector<Eigen::Vector3d>& positions,
+                  std::vector<Eigen::Quaterniond>& rotations) {
+  std::map<std::uint64_t, const TrajectoryRow*> by_id;
+  for (const TrajectoryRow& row : rows) by_id[row.id] = &row;
+  for (const auto& [id, row] : by_id) {
+    positions.push_back(row->position_W);
+    rotations.push_back(row->rotation_W_C);
+  }
+}
+
+/// The path --road-under-path names: its value, or the map's own trajectory.csv without one.
+std::string pathSource(const TraverseEvalOptions& options) {
+  if (!options.road_under_path->empty()) return *options.road_under_path;
+  return (std::filesystem::path(options.map_dir) / "trajectory.csv").string();
+}
+
 /// The map's classes on the road under the camera path (real data).
 void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversability::LayeredMesh& map,
                            std::ostream& report, const evaluation::GroundTruthTraversability* truth) {
-  const std::string& stream_path = *options.road_under_path;
-  const datasets::SlamStream stream = datasets::readAnyStream(stream_path);
+  const std::string stream_path = pathSource(options);
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Quaterniond> rotations;
-  keyframePath(stream, positions, rotations);
+  if (std::filesystem::path(stream_path).filename() == "trajectory.csv") {
+    keyframePath(readTrajectoryCsv(stream_path), positions, rotations);
+  } else {
+    keyframePath(datasets::readAnyStream(stream_path), positions, rotations);
+  }
   if (positions.size() < 2) throw InputError(stream_path, "keyframes", "at least 2 keyframes are needed for a path");
   const Eigen::Vector3d up = evaluation::upFromCameraRotations(rotations);
   evaluation::RoadUnderPathConfig config;

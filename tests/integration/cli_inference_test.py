@@ -1,7 +1,8 @@
 """What the data holds, the commands take without a flag (issue 23, "No flag a user must guess"):
 `terramesh mesh` says which settings it took from the stream and records the scale, up and
 sensor height it inferred in mesh.ply's header;
-`traverse` takes scale and up from there, `traverse-eval --road-under-path` the sensor height, and
+`traverse` takes scale and up from there, `traverse-eval --road-under-path` the sensor height (and,
+without a value, the run's own keyframes from trajectory.csv), and
 `eval --gt-mesh` the views from trajectory.txt beside the truth, else from the run's own
 trajectory.csv beside the mesh. Flags override; a malformed record
 exits 2 naming the file and line.
@@ -127,6 +128,19 @@ class InferredFrameTest(unittest.TestCase):
         values = report_values(report)
         self.assertEqual(values["camera_height_m"], "1.200")
         self.assertEqual(values["camera_height_source"], "--camera-height-m")
+
+    def test_road_under_path_takes_the_run_s_own_keyframes_without_a_stream(self):
+        from_stream, from_run = self.path("road_stream.txt"), self.path("road_run.txt")
+        result = run("traverse-eval", self.map, "--road-under-path", self.stream, "--report", from_stream, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        result = run("traverse-eval", self.map, "--road-under-path", "--report", from_run, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        a, b = report_values(from_stream), report_values(from_run)
+        self.assertEqual(b["path"], os.path.join(self.map, "trajectory.csv"))
+        self.assertGreater(float(b["road_free_m2"]) + float(b["road_lethal_m2"]), 0)
+        for key in a:
+            if key != "path":
+                self.assertEqual(a[key], b[key], key)
 
     def test_eval_takes_the_views_beside_the_truth(self):
         truth = os.path.join(self.scene, "ground_truth.ply")
