@@ -25,7 +25,7 @@ struct ConvertOptions {
   double resolution_m = 0.2;
   double max_range_m = 40;
   std::optional<double> metres_per_unit;
-  int min_views = 2;
+  std::optional<int> min_views;
   std::vector<double> up;
   bool quiet = false;
 };
@@ -70,7 +70,9 @@ void declareOptions(CLI::App& app, ConvertOptions& o) {
   app.add_option("--metres-per-unit", o.metres_per_unit,
                  "STREAM -> .bt/.pcd, .bt -> mesh: map scale (default: the stream's, else 1)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--min-views", o.min_views, "STREAM -> .pcd: keyframes that must see a point")->capture_default_str()
+  app.add_option("--min-views", o.min_views,
+                 "STREAM -> .pcd: keyframes that must see a point (default: what the stream advises, 1 for LiDAR, "
+                 "else 2)")
       ->check(CLI::Range(1, 1000000));
   app.add_option("--up", o.up, ".bt -> mesh: map the octree frame back to a map whose up is X Y Z (default: keep the octree's z-up frame)")
       ->expected(3);
@@ -118,10 +120,15 @@ std::string convertOne(const ConvertOptions& o) {
     const double metres_per_unit = o.metres_per_unit.value_or(stream.scale_known ? stream.metres_per_unit : 1.0);
     if (out_ext == ".pcd") {
       baselines::SlamPointsConfig config;
-      config.min_views = o.min_views;
+      const bool advised = stream.recommended_min_views > 0;
+      config.min_views = o.min_views.value_or(advised ? stream.recommended_min_views : 2);
       const baselines::SlamPoints points = baselines::collectSlamPoints(stream, config);
       baselines::writeSlamPointsPcd(out, points);
-      summary << "SLAM points with viewpoints (map units): " << points.size() << " points";
+      summary << "SLAM points with viewpoints (map units): " << points.size() << " points seen by at least "
+              << config.min_views << " keyframe(s) ("
+              << (o.min_views ? "--min-views" : advised ? "as the input advises; --min-views overrides"
+                                                        : "the default; --min-views overrides")
+              << ")";
     } else {
       const baselines::OctomapBuild build = baselines::buildOctomap(
           stream, o.resolution_m, o.max_range_m, {baselines::streamUp(stream), metres_per_unit}, out);

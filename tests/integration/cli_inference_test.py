@@ -2,7 +2,8 @@
 `terramesh mesh` says which settings it took from the stream and records the scale, up and
 sensor height it inferred in mesh.ply's header;
 `traverse` takes scale and up from there, `traverse-eval --road-under-path` the sensor height (and,
-without a value, the run's own keyframes from trajectory.csv), and
+without a value, the run's own keyframes from trajectory.csv), `convert STREAM OUT.pcd` the views a
+point needs, and
 `eval --gt-mesh` the views from trajectory.txt beside the truth, else from the run's own
 trajectory.csv beside the mesh. Flags override; a malformed record
 exits 2 naming the file and line.
@@ -141,6 +142,31 @@ class InferredFrameTest(unittest.TestCase):
         for key in a:
             if key != "path":
                 self.assertEqual(a[key], b[key], key)
+
+    def test_convert_to_pcd_keeps_the_points_the_stream_advises(self):
+        def points(path):
+            with open(path, "rb") as f:
+                for line in f:
+                    if line.startswith(b"POINTS "):
+                        return int(line.split()[1])
+            raise AssertionError(f"{path}: no POINTS line")
+        counts = {}
+        for views in ("1", None, "3"):
+            out = self.path(f"points_{views}.pcd")
+            result = run("convert", self.stream, out, *(["--min-views", views] if views else []))
+            self.assertEqual(result.returncode, 0, result.stderr)
+            counts[views] = points(out)
+        self.assertGreater(counts["1"], counts[None])
+        self.assertGreater(counts[None], counts["3"])
+        # A LiDAR sequence advises 1 view: every return is a point (with 2 it would keep none).
+        scene = self.path("lidar_scene")
+        result = run("generate", "street", "--length-m", "20", "--seed", "2", "--lidar", "-o", scene, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        out = self.path("lidar.pcd")
+        result = run("convert", os.path.join(scene, "lidar"), out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("at least 1 keyframe(s) (as the input advises", result.stdout + result.stderr)
+        self.assertGreater(points(out), 100000)
 
     def test_eval_takes_the_views_beside_the_truth(self):
         truth = os.path.join(self.scene, "ground_truth.ply")
