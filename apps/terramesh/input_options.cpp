@@ -41,14 +41,19 @@ void addRosbagOptions(CLI::App& app, InputOptions& options) {
   app.add_option("--pose-topic", options.pose_topic,
                  "ROS bag: the nav_msgs/Odometry or geometry_msgs/PoseStamped topic (default: the bag's only one)")
       ->option_text("TOPIC");
-  app.add_option("--tf-frames", options.tf_frames, "ROS bag: poses from tf, the transform PARENT -> CHILD")
+  app.add_option("--tf-frames", options.tf_frames,
+                 "ROS bag: poses from the tf tree, world frame PARENT and sensor frame CHILD (default without a "
+                 "pose topic: the root of the cloud frame's tree, and the cloud's frame)")
       ->expected(2)
       ->option_text("PARENT CHILD");
-  app.add_option("--tf-topic", options.tf_topic, "ROS bag: the tf2_msgs/TFMessage topic of --tf-frames")
+  app.add_option("--tf-topic", options.tf_topic, "ROS bag: the time-varying tf2_msgs/TFMessage topic (default /tf)")
+      ->option_text("TOPIC");
+  app.add_option("--tf-static-topic", options.tf_static_topic,
+                 "ROS bag: the static tf2_msgs/TFMessage topic (default /tf_static)")
       ->option_text("TOPIC");
   app.add_option("--cloud-frame", options.cloud_frame,
                  "ROS bag: the clouds' points are in the sensor frame or already in the world (auto: from "
-                 "header.frame_id vs the poses' frames)")
+                 "header.frame_id vs the poses' frames and the tf tree)")
       ->option_text("auto|sensor|world");
   app.add_option("--max-pose-interval-s", options.max_pose_interval_s,
                  "ROS bag: interpolate a cloud's pose between two poses at most this far apart" +
@@ -106,6 +111,7 @@ datasets::RosbagOptions rosbagOptionsFrom(const InputOptions& values) {
     options.tf_child_frame = values.tf_frames[1];
   }
   options.tf_topic = values.tf_topic;
+  options.tf_static_topic = values.tf_static_topic;
   if (values.cloud_frame == "sensor") {
     options.cloud_frame = datasets::CloudFrame::kSensor;
   } else if (values.cloud_frame == "world") {

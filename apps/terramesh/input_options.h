@@ -30,6 +30,7 @@ struct InputOptions {
   std::string pose_topic;
   std::vector<std::string> tf_frames;  ///< PARENT CHILD
   std::string tf_topic = "/tf";
+  std::string tf_static_topic = "/tf_static";
   std::string cloud_frame = "auto";
   double max_pose_interval_s = datasets::RosbagOptions().max_pose_interval_s;
   double pose_time_tolerance_s = datasets::RosbagOptions().pose_time_tolerance_s;

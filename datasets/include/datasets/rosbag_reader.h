@@ -13,9 +13,9 @@ namespace terramesh::datasets {
 
 /// Which frame the points of a bag's clouds are in.
 enum class CloudFrame {
-  kAuto,    ///< decided from the first cloud's header.frame_id against the pose's frame ids
-  kSensor,  ///< the sensor's frame (the pose's child frame): moved into the world by the pose
-  kWorld,   ///< already registered in the pose's world frame: used as they are
+  kAuto,    ///< decided from the first cloud's header.frame_id against the poses' frame ids
+  kSensor,  ///< the sensor's frame: moved into the world by the sensor's pose
+  kWorld,   ///< already registered in the poses' world frame: used as they are
 };
 
 /// The name of a cloud frame as `--cloud-frame` spells it: auto, sensor, world.
@@ -26,13 +26,17 @@ struct RosbagOptions {
   /// The sensor_msgs/PointCloud2 topic; empty: the bag's only PointCloud2 topic.
   std::string cloud_topic;
   /// The nav_msgs/Odometry or geometry_msgs/PoseStamped topic; empty: the bag's only topic of
-  /// either type (unless tf frames are given).
+  /// either type (unless tf frames are given). A cloud in a frame below the poses' child frame
+  /// on tf_static_topic is moved by that static extrinsic too.
   std::string pose_topic;
-  /// Both set: the poses are the transforms from tf_parent_frame to tf_child_frame on tf_topic
-  /// (tf2_msgs/TFMessage), one direct edge, not a chain of them. Leading '/' are ignored.
+  /// Both set: the poses come from the tf tree of tf_topic and tf_static_topic (also used, with
+  /// the world frame the root of the cloud frame's tree, when the bag has no pose topic):
+  /// tf_parent_frame is the world frame, tf_child_frame the sensor frame; chains are composed.
+  /// Leading '/' are ignored.
   std::string tf_parent_frame;
   std::string tf_child_frame;
-  std::string tf_topic = "/tf";
+  std::string tf_topic = "/tf";                ///< time-varying transforms (tf2_msgs/TFMessage)
+  std::string tf_static_topic = "/tf_static";  ///< static transforms (tf2_msgs/TFMessage)
   CloudFrame cloud_frame = CloudFrame::kAuto;
   /// A cloud between two poses at most this far apart takes their interpolation (linear
   /// position, slerp rotation); a pose at the cloud's exact stamp is taken as it is.
@@ -65,7 +69,8 @@ std::vector<RosbagTopic> listRosbagTopics(const std::filesystem::path& path);
 
 /// Reads a ROS 1 bag of LiDAR (or visual) SLAM output as a stream: each PointCloud2 of the cloud
 /// topic becomes one keyframe event (id = its index on the topic, in bag order), posed by the
-/// pose topic (or tf) at the cloud's header stamp as RosbagOptions says. Points are the finite
+/// pose topic (or the tf tree: the transform from the world frame to the cloud's frame, as tf2's
+/// lookupTransform) at the cloud's header stamp as RosbagOptions says. Points are the finite
 /// x y z (float32 or float64) of the cloud; with the point-id field their ids come from it, else
 /// point id = keyframe id << 32 | index of the point in the cloud, the stream advises
 /// min_views 1 and `options.lidar` filters the clouds as the KITTI reader does its scans. Units are metres (REP 103): metres_per_unit = 1, known. The sensor's up axis is
@@ -76,7 +81,8 @@ std::vector<RosbagTopic> listRosbagTopics(const std::filesystem::path& path);
 /// @throw terramesh::InputError naming the file, and the topic, message type and message index
 ///        where one is at fault: not a bag, a missing topic or one of the wrong type, several
 ///        candidates and no choice (naming them), a cloud without x, y or z, a malformed cloud,
-///        no pose at all, no cloud kept.
+///        no pose at all, a cloud frame not in the tf tree, a tf frame with two parents or a
+///        cycle, no cloud kept.
 SlamStream readRosbag(const std::filesystem::path& path, const RosbagOptions& options = {});
 
 }  // namespace terramesh::datasets
