@@ -3,16 +3,13 @@ master), meshed and compared with the same data read by terramesh's other reader
 
 - SyntheticBagTest: a synthetic camera stream written as registered PointCloud2s (float64 x y z and an
   `id` field) with an Odometry at each stamp gives a byte-identical mesh.ply to the .tmstream.
-- TfTreeBagTest: the same camera stream as a robot records it: clouds in the camera's frame, posed by
-  odom -> base_link on /tf (or an Odometry of base_link) and base_link -> camera on /tf_static; the
-  composed chain gives the stream's mesh (vertices within 1e-9 m: see the class for why not bytes).
 - KittiBagTest: KITTI Velodyne scans in the sensor frame with Odometry from the KITTI poses, against the
   KITTI reader on the same scans (see the test for why the meshes are close, not identical).
 - SyntheticLidarBagTest: the generator's LiDAR model (`generate --lidar`, a KITTI sequence folder),
   converted to a .tmstream and written as registered clouds with an Odometry per scan: the folder,
   the stream and the bag give one byte-identical mesh.ply.
-- BadBagTest: missing topic, wrong type, several candidates, a cloud without z, no pose near a cloud;
-  tf: a cloud frame not in the tree, a frame with two parents, a cycle.
+- BadBagTest: missing topic, wrong type, several candidates, a cloud without z, no pose near a cloud.
+Bags posed by the tf tree: cli_rosbag_tf_test.py.
 
 Run by ctest with the system Python (python3-rosbag): /usr/bin/python3 -m unittest cli_rosbag_test
 (TERRAMESH_BIN and TERRAMESH_SHARED_DIR set).
@@ -20,156 +17,14 @@ Run by ctest with the system Python (python3-rosbag): /usr/bin/python3 -m unitte
 import os
 import re
 import shutil
-import subprocess
-import tempfile
-import unittest
 
 import numpy as np
 import rosbag
-from genpy import Time
-from geometry_msgs.msg import PoseStamped
-from nav_msgs.msg import Odometry
-from sensor_msgs.msg import PointCloud2, PointField
 from std_msgs.msg import String
 
-BIN = os.environ["TERRAMESH_BIN"]
-SHARED = os.environ["TERRAMESH_SHARED_DIR"]
-LIDAR = os.path.join(SHARED, "data", "kitti00_lidar")
-POSES = os.path.join(SHARED, "data", "kitti_poses", "00.txt")
-
-FLOAT32, FLOAT64, UINT32 = PointField.FLOAT32, PointField.FLOAT64, PointField.UINT32
-NUMPY_TYPES = {FLOAT32: "<f4", FLOAT64: "<f8", UINT32: "<u4"}
-
-
-def run(*args):
-    return subprocess.run([BIN, *args], capture_output=True, text=True, timeout=600)
-
-
-def stamp(seconds):
-    return Time.from_sec(seconds)
-
-
-def cloud_message(columns, time, frame):
-    """A PointCloud2 of one row: columns = [(name, datatype, values)], packed in that order."""
-    dtype = np.dtype([(name, NUMPY_TYPES[kind]) for name, kind, _ in columns])
-    records = np.zeros(len(columns[0][2]), dtype=dtype)
-    for name, _, values in columns:
-        records[name] = values
-    msg = PointCloud2()
-    msg.header.stamp = time
-    msg.header.frame_id = frame
-    msg.height, msg.width = 1, len(records)
-    msg.fields = [PointField(name=name, offset=dtype.fields[name][1], datatype=kind, count=1)
-                  for name, kind, _ in columns]
-    msg.is_bigendian = False
-    msg.point_step = dtype.itemsize
-    msg.row_step = dtype.itemsize * len(records)
-    msg.data = records.tobytes()
-    msg.is_dense = True
-    return msg
-
-
-def odometry(time, frame, child, position, quaternion_xyzw):
-    msg = Odometry()
-    msg.header.stamp = time
-    msg.header.frame_id = frame
-    msg.child_frame_id = child
-    p, q = msg.pose.pose.position, msg.pose.pose.orientation
-    p.x, p.y, p.z = (float(v) for v in position)
-    q.x, q.y, q.z, q.w = (float(v) for v in quaternion_xyzw)
-    return msg
-
-
-def pose_stamped(time, frame, position, quaternion_xyzw):
-    msg = PoseStamped()
-    msg.header.stamp = time
-    msg.header.frame_id = frame
-    p, q = msg.pose.position, msg.pose.orientation
-    p.x, p.y, p.z = (float(v) for v in position)
-    q.x, q.y, q.z, q.w = (float(v) for v in quaternion_xyzw)
-    return msg
-
-
-def read_tmstream_keyframes(path):
-    """[(id, centre, quaternion wxyz, [(point id, x, y, z)])] of a .tmstream holding only keyframes."""
-    keyframes = []
-    with open(path) as f:
-        lines = iter(f.read().splitlines())
-    for line in lines:
-        fields = line.split()
-        if not fields or fields[0] != "keyframe":
-            if fields and fields[0] in ("remove_points", "remove_keyframe"):
-                raise AssertionError("the comparison needs a stream of keyframes only")
-            continue
-        count = int(fields[9])
-        observations = [next(lines).split() for _ in range(count)]
-        keyframes.append((int(fields[1]), [float(v) for v in fields[2:5]], [float(v) for v in fields[5:9]],
-                          [(int(o[0]), float(o[1]), float(o[2]), float(o[3])) for o in observations]))
-    return keyframes
-
-
-def quaternion_xyzw(rotation):
-    """The unit quaternion of a 3x3 rotation matrix (x, y, z, w)."""
-    m = rotation
-    trace = m[0, 0] + m[1, 1] + m[2, 2]
-    if trace > 0:
-        s = 2.0 * np.sqrt(trace + 1.0)
-        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, 0.25 * s]
-    else:
-        i = int(np.argmax([m[0, 0], m[1, 1], m[2, 2]]))
-        j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * np.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
-        q = [0.0, 0.0, 0.0, (m[k, j] - m[j, k]) / s]
-        q[i] = 0.25 * s
-        q[j] = (m[j, i] + m[i, j]) / s
-        q[k] = (m[k, i] + m[i, k]) / s
-    q = np.array(q)
-    return q / np.linalg.norm(q)
-
-
-class BagCase(unittest.TestCase):
-    def setUp(self):
-        self.dir = tempfile.mkdtemp(prefix="terramesh_rosbag_")
-
-    def tearDown(self):
-        shutil.rmtree(self.dir, ignore_errors=True)
-
-    def path(self, name):
-        return os.path.join(self.dir, name)
-
-    def mesh(self, source, name, *options):
-        out = self.path(name)
-        result = run("mesh", source, "-o", out, *options)
-        self.assertEqual(result.returncode, 0, result.stderr)
-        return out, result.stderr
-
-    def file_bytes(self, *parts):
-        with open(os.path.join(*parts), "rb") as f:
-            return f.read()
-
-
-class StreetStreamCase(BagCase):
-    """The generator's street camera stream (tracked points with ids) in self.stream / self.keyframes."""
-
-    def setUp(self):
-        super().setUp()
-        generated = run("generate", "street", "-o", self.path("gen"), "--length-m", "40", "--quiet")
-        self.assertEqual(generated.returncode, 0, generated.stderr)
-        self.stream = self.path("gen/stream.tmstream")
-        self.keyframes = read_tmstream_keyframes(self.stream)
-        self.assertGreater(len(self.keyframes), 10)
-        # The bag's keyframe ids are the clouds' indices on the topic.
-        self.assertEqual([k[0] for k in self.keyframes], list(range(len(self.keyframes))))
-
-    @staticmethod
-    def stamp_of(index):
-        return Time(100 + index // 10, (index % 10) * 100_000_000)
-
-    @staticmethod
-    def id_cloud(observations, time, frame):
-        """A cloud of float64 x y z and a uint32 `id` field: (id, x, y, z) observations."""
-        columns = [(axis, FLOAT64, [o[k + 1] for o in observations]) for k, axis in enumerate("xyz")]
-        return cloud_message(columns + [("id", UINT32, [o[0] for o in observations])], time, frame)
+from rosbag_test_util import (BadBagCase, BagCase, FLOAT32, FLOAT64, LIDAR, POSES, StreetStreamCase, UINT32,
+    cloud_message, mesh_counts, odometry, pose_stamped, quaternion_xyzw, read_points_ply,
+    read_tmstream_keyframes, run, small_cloud, stamp)
 
 
 class SyntheticBagTest(StreetStreamCase):
@@ -228,170 +83,6 @@ class SyntheticBagTest(StreetStreamCase):
         self.assertEqual(without_up[0], without_up[1])
 
 
-def transform_stamped(time, parent, child, position, q_xyzw):
-    from geometry_msgs.msg import TransformStamped
-    msg = TransformStamped()
-    msg.header.stamp, msg.header.frame_id, msg.child_frame_id = time, parent, child
-    v, q = msg.transform.translation, msg.transform.rotation
-    v.x, v.y, v.z = (float(x) for x in position)
-    q.x, q.y, q.z, q.w = (float(x) for x in q_xyzw)
-    return msg
-
-
-def tf_message(*transforms):
-    from tf2_msgs.msg import TFMessage
-    return TFMessage(transforms=list(transforms))
-
-
-def rotation_matrix(q_xyzw):
-    x, y, z, w = q_xyzw
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
-class TfTreeBagTest(StreetStreamCase):
-    """The street camera stream as a robot records it: the camera's points in its own frame
-    (camera_optical_frame), mounted on base_link by a static extrinsic on /tf_static (0.2 m ahead,
-    1.1 m up, REP 103's optical rotation), and base_link posed in odom on /tf (time-varying) or by
-    an Odometry of base_link. The reader composes odom -> base_link -> camera_optical_frame per
-    cloud, as tf2's lookupTransform does.
-
-    Why not byte-identical to the stream: the test splits each keyframe pose T_odom_camera into
-    T_odom_base = T_odom_camera * T_base_camera^-1 and moves the points into the camera frame in
-    float64 (numpy); the reader composes the pose back and moves the points out again (Eigen), which
-    rounds differently in the last bits (1.4e-14 m at most in mesh.ply's float64 vertices when this
-    was written). So the meshes are compared by vertex count, face count and vertex positions within
-    1e-9 m, the keyframe centres within 1e-9 m."""
-
-    EXTRINSIC_T = (0.2, 0.0, 1.1)
-    EXTRINSIC_Q = (-0.5, 0.5, -0.5, 0.5)  # base_link (x forward, z up) -> optical (z forward, y down)
-
-    def sensor_frame_data(self):
-        """[(stamp, base_link position, base_link quaternion xyzw, camera-frame observations)]."""
-        r_bc, t_bc = rotation_matrix(self.EXTRINSIC_Q), np.array(self.EXTRINSIC_T)
-        data = []
-        for index, (_, centre, q_wxyz, observations) in enumerate(self.keyframes):
-            r_wc, c = rotation_matrix(q_wxyz[1:] + q_wxyz[:1]), np.array(centre)
-            r_wb = r_wc @ r_bc.T
-            points = (np.array([o[1:] for o in observations]) - c) @ r_wc  # rows: R_wc^T (x_W - c)
-            local = [(o[0], *p) for o, p in zip(observations, points)]
-            data.append((self.stamp_of(index), c - r_wb @ t_bc, quaternion_xyzw(r_wb), local))
-        return data
-
-    def write_tf_bag(self, name, pose_topic=False, static_parent="base_link", registered=False):
-        path = self.path(name)
-        with rosbag.Bag(path, "w") as bag:
-            first = self.stamp_of(0)
-            bag.write("/tf_static", tf_message(transform_stamped(first, static_parent, "camera_optical_frame",
-                                                                 self.EXTRINSIC_T, self.EXTRINSIC_Q)), t=first)
-            for (time, position, q_xyzw, local), keyframe in zip(self.sensor_frame_data(), self.keyframes):
-                if pose_topic:
-                    bag.write("/odom", odometry(time, "odom", "base_link", position, q_xyzw), t=time)
-                else:
-                    bag.write("/tf", tf_message(transform_stamped(time, "odom", "base_link", position, q_xyzw)), t=time)
-                cloud = self.id_cloud(keyframe[3], time, "odom") if registered else \
-                    self.id_cloud(local, time, "camera_optical_frame")
-                bag.write("/camera/points", cloud, t=time)
-        return path
-
-    def assert_same_mesh(self, out, stream_out):
-        stream_vertices, stream_faces, _ = mesh_counts(stream_out)
-        vertices, faces, _ = mesh_counts(out)
-        self.assertEqual((vertices, faces), (stream_vertices, stream_faces))
-        self.assertGreater(faces, 1000)
-        mesh, reference = (read_ply_vertices(os.path.join(o, "mesh.ply")) for o in (out, stream_out))
-        self.assertEqual(mesh.shape, reference.shape)
-        self.assertLess(np.abs(mesh - reference).max(), 1e-9)
-        with open(os.path.join(out, "trajectory.csv")) as f, open(os.path.join(stream_out, "trajectory.csv")) as g:
-            rows = [[float(v) for v in line.split(",")[2:5]] for line in f.read().splitlines()[1:]]
-            expected = [[float(v) for v in line.split(",")[2:5]] for line in g.read().splitlines()[1:]]
-        self.assertEqual(len(rows), len(self.keyframes))
-        np.testing.assert_allclose(rows, expected, rtol=0, atol=1e-9)
-
-    def test_tf_tree_gives_the_stream_mesh(self):
-        stream_out, _ = self.mesh(self.stream, "from_stream", "--quiet")
-        bag_out, stderr = self.mesh(self.write_tf_bag("tf.bag"), "from_tf")
-        self.assert_same_mesh(bag_out, stream_out)
-        # No flag: the world frame is the tree's root, the sensor the clouds' frame, and the run says so.
-        self.assertIn("terramesh: input: poses from tf on /tf (%d messages), /tf_static (1 messages), the bag has no "
-                      "pose topic" % len(self.keyframes), stderr)
-        self.assertIn("terramesh: input: poses: tf odom -> base_link -> camera_optical_frame (base_link -> "
-                      "camera_optical_frame static); world frame \"odom\" (the tf tree's root), sensor frame "
-                      "\"camera_optical_frame\"", stderr)
-        self.assertIn("clouds in the sensor frame (points moved into the world by the pose): its header.frame_id "
-                      "\"camera_optical_frame\" is in the tf tree under \"odom\"", stderr)
-        self.assertIn("sensor up axis -y (sensor frame \"camera_optical_frame\")", stderr)
-        # --tf-frames names the same chain: the same bytes.
-        named_out, _ = self.mesh(self.path("tf.bag"), "named", "--tf-frames", "/odom", "camera_optical_frame", "--quiet")
-        self.assertEqual(self.file_bytes(named_out, "mesh.ply"), self.file_bytes(bag_out, "mesh.ply"))
-        # Registered clouds (in the root frame): posed by the tree's only leaf, the camera.
-        registered_out, stderr = self.mesh(self.write_tf_bag("registered.bag", registered=True), "registered")
-        self.assert_same_mesh(registered_out, stream_out)
-        self.assertIn("clouds in the world frame (points used as they are): its header.frame_id \"odom\" is the tf "
-                      "tree's root", stderr)
-        self.assertIn("sensor frame \"camera_optical_frame\" (the only leaf frame under \"odom\")", stderr)
-
-    def test_odometry_of_base_link_with_a_static_extrinsic(self):
-        stream_out, _ = self.mesh(self.stream, "from_stream", "--quiet")
-        bag_out, stderr = self.mesh(self.write_tf_bag("odom.bag", pose_topic=True), "from_odom")
-        self.assert_same_mesh(bag_out, stream_out)
-        self.assertIn("terramesh: input: poses: /odom (nav_msgs/Odometry) odom -> base_link, then /tf_static base_link "
-                      "-> camera_optical_frame (base_link -> camera_optical_frame static); world frame \"odom\", "
-                      "sensor frame \"camera_optical_frame\"", stderr)
-        # Without the extrinsic the cloud frame is unexplained: exit 2, naming it.
-        refused = run("mesh", self.write_tf_bag("no_extrinsic.bag", pose_topic=True, static_parent="imu"),
-                      "-o", self.path("refused"))
-        self.assertEqual(refused.returncode, 2, refused.stderr)
-        self.assertIn("topic /camera/points: message 0: PointCloud2 header.frame_id \"camera_optical_frame\" is neither "
-                      "the poses' frame \"odom\" nor their child frame \"base_link\", nor below it on /tf_static",
-                      refused.stderr)
-
-
-def read_points_ply(path):
-    """x y z (float32) of the run's points.ply: element vertex with float x y z and uint first_keyframe."""
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode()
-    count = int(header.split("element vertex ")[1].split()[0])
-    layout = "property float x\nproperty float y\nproperty float z\nproperty uint first_keyframe\n"
-    assert layout in header, header
-    records = np.frombuffer(data, dtype=[("xyz", "<f4", 3), ("first", "<u4")], count=count, offset=end)
-    return records["xyz"].astype(float)
-
-
-def read_ply_vertices(path):
-    """x y z of the vertices of a binary little-endian PLY whose vertex element starts with x y z."""
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode().splitlines()
-    assert "format binary_little_endian 1.0" in header, header[:3]
-    count, properties, in_vertex = 0, [], False
-    sizes = {"float": "<f4", "double": "<f8", "uchar": "u1", "uint": "<u4", "int": "<i4", "ushort": "<u2"}
-    for line in header:
-        words = line.split()
-        if words[:2] == ["element", "vertex"]:
-            count, in_vertex = int(words[2]), True
-        elif words and words[0] == "element":
-            in_vertex = False
-        elif in_vertex and words[0] == "property":
-            properties.append((words[2], sizes[words[1]]))
-    records = np.frombuffer(data, dtype=properties, count=count, offset=end)
-    return np.stack([records["x"], records["y"], records["z"]], axis=1).astype(float)
-
-
-def mesh_counts(out):
-    """(vertices, faces, closed 2-manifold) from a run's summary.txt."""
-    with open(os.path.join(out, "summary.txt")) as f:
-        line = next(line for line in f if line.startswith("mesh: "))
-    words = line.replace("(", " ").replace(",", " ").split()
-    return int(words[words.index("vertices") - 1]), int(words[words.index("faces") - 1]), "closed 2-manifold" in line
-
-
-@unittest.skipUnless(os.path.isdir(os.path.join(LIDAR, "velodyne")) and os.path.isfile(POSES),
-                     "the shared KITTI 00 LiDAR data is not there")
 class KittiBagTest(BagCase):
     """KITTI scans in the sensor frame, posed by Odometry messages, against the KITTI reader.
 
@@ -553,41 +244,8 @@ class SyntheticLidarBagTest(BagCase):
         self.assertGreater(faces, 5000)
 
 
-def small_cloud(time, frame="velodyne", names=("x", "y", "z"), kind=FLOAT32, offset=0.0):
-    """Four points 5 m around the sensor, with the fields `names`."""
-    values = {"x": [5.0 + offset, 0.0, -5.0, 0.0], "y": [0.0, 5.0, 0.0, -5.0], "z": [0.5, 0.5, 0.5, float("nan")]}
-    return cloud_message([(name, kind, values[name]) for name in names], time, frame)
-
-
-class BadBagTest(BagCase):
+class BadBagTest(BadBagCase):
     """Each refusal: exit 2, one line naming the bag, the topic and, for a message, its index; no output."""
-
-    def write_bag(self, name, messages, compression="none"):
-        path = self.path(name)
-        with rosbag.Bag(path, "w", compression=compression) as bag:
-            for topic, message, seconds in messages:
-                bag.write(topic, message, t=stamp(seconds))
-        return path
-
-    def lidar_bag(self, name="lidar.bag", clouds=3, extra=(), compression="none"):
-        messages = []
-        for i in range(clouds):
-            t = 10.0 + i
-            messages.append(("/odom", odometry(stamp(t), "odom", "velodyne", (i, 0, 0), (0, 0, 0, 1)), t))
-            messages.append(("/points", small_cloud(stamp(t), offset=i), t))
-        return self.write_bag(name, messages + list(extra), compression)
-
-    def assert_refused(self, bag, *fragments, options=()):
-        out = self.path("out")
-        result = run("mesh", bag, "-o", out, *options)
-        self.assertEqual(result.returncode, 2, result.stderr)
-        lines = result.stderr.strip().splitlines()
-        self.assertEqual(len(lines), 1, result.stderr)
-        self.assertTrue(lines[0].startswith("terramesh: " + bag + ": "), lines[0])
-        for fragment in fragments:
-            self.assertIn(fragment, lines[0])
-        self.assertFalse(os.path.exists(out), "no output may be written for bad input")
-        return lines[0]
 
     def test_bad_lidar_options_are_usage_errors(self):
         # LiDAR options are checked before anything is read or written (exit 2, the flag named).
@@ -697,60 +355,3 @@ class BadBagTest(BagCase):
         self.assert_refused(self.write_bag("none.bag", messages[:1] + messages[3:]),
                             "topic /points: all 2 clouds dropped: no pose at the stamp, none between two poses at most 0.2 s apart, "
                             "none within 0.01 s (the poses /odom (nav_msgs/Odometry) span 10 to 10 s)")
-
-    def test_tf_poses(self):
-        messages = []
-        for i in range(3):
-            t = 10.0 + i
-            transform = transform_stamped(stamp(t), "/odom", "velodyne", (i, 0, 0), (0, 0, 0, 1))
-            other = transform_stamped(stamp(t), "odom", "base_link", (0, 0, 0), (0, 0, 0, 1))
-            messages += [("/tf", tf_message(other, transform), t), ("/points", small_cloud(stamp(t)), t)]
-        bag = self.write_bag("tf.bag", messages)
-        out, stderr = self.mesh(bag, "tf", "--tf-frames", "odom", "velodyne")
-        self.assertIn("poses from tf on /tf (3 messages), as --tf-frames says: 2 time-varying and 0 static edges", stderr)
-        self.assertIn("poses: tf odom -> velodyne; world frame \"odom\" (the world frame --tf-frames names), sensor "
-                      "frame \"velodyne\"", stderr)
-        with open(os.path.join(out, "trajectory.csv")) as f:
-            trajectory = f.read()
-        self.assertEqual([float(line.split(",")[2]) for line in trajectory.splitlines()[1:]], [0.0, 1.0, 2.0])
-        self.assert_refused(bag, "--tf-frames: frame \"lidar\" is not in the tf tree of /tf (its frames: base_link, "
-                                 "odom, velodyne)", options=["--tf-frames", "odom", "lidar"])
-        # Without a pose topic or a flag, tf is used: the root of the clouds' frame's tree is the world.
-        inferred, stderr = self.mesh(bag, "inferred")
-        self.assertIn("world frame \"odom\" (the tf tree's root), sensor frame \"velodyne\"", stderr)
-        with open(os.path.join(inferred, "trajectory.csv")) as f:
-            self.assertEqual(f.read(), trajectory)
-
-    def tf_tree_bag(self, name, extra_static=(), cloud_frame="velodyne", clouds=3):
-        """odom -> base_link on /tf (x = i at 10 + i s), base_link -> velodyne on /tf_static, clouds in `cloud_frame`."""
-        static = [transform_stamped(stamp(10.0), "base_link", "velodyne", (0, 0, 1), (0, 0, 0, 1)), *extra_static]
-        messages = [("/tf_static", tf_message(*static), 10.0)]
-        for i in range(3):
-            t = 10.0 + i
-            messages.append(("/tf", tf_message(transform_stamped(stamp(t), "odom", "base_link", (i, 0, 0),
-                                                                 (0, 0, 0, 1))), t))
-        for i in range(clouds):
-            messages.append(("/points", small_cloud(stamp(10.0 + i), frame=cloud_frame), 10.0 + i))
-        return self.write_bag(name, messages)
-
-    def test_tf_tree_refusals(self):
-        # The baseline: the chain is composed (the Velodyne 1 m above base_link) and the run says so.
-        out, stderr = self.mesh(self.tf_tree_bag("tree.bag"), "tree")
-        self.assertIn("poses: tf odom -> base_link -> velodyne (base_link -> velodyne static)", stderr)
-        with open(os.path.join(out, "trajectory.csv")) as f:
-            rows = [[float(v) for v in line.split(",")[2:5]] for line in f.read().splitlines()[1:]]
-        self.assertEqual(rows, [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [2.0, 0.0, 1.0]])
-        # A cloud after the last transform is dropped and counted, not an error.
-        _, stderr = self.mesh(self.tf_tree_bag("late.bag", clouds=4), "late")
-        self.assertIn("terramesh: input: 1 of 4 clouds dropped: no pose at the stamp", stderr)
-        self.assert_refused(self.tf_tree_bag("lidar.bag", cloud_frame="lidar"),
-                            "topic /points: message 0: PointCloud2 header.frame_id \"lidar\" is not in the tf tree of "
-                            "/tf, /tf_static (its frames: base_link, odom, velodyne)")
-        two_parents = transform_stamped(stamp(10.0), "odom", "velodyne", (0, 0, 0), (0, 0, 0, 1))
-        self.assert_refused(self.tf_tree_bag("parents.bag", extra_static=[two_parents]),
-                            "topic /tf_static: message 0: tf: frame \"velodyne\" has two parents: \"base_link\" and "
-                            "\"odom\"")
-        cycle = transform_stamped(stamp(10.0), "velodyne", "odom", (0, 0, 0), (0, 0, 0, 1))
-        self.assert_refused(self.tf_tree_bag("cycle.bag", extra_static=[cycle]),
-                            "topic /tf_static: message 0: tf: the edge velodyne -> odom closes a cycle: \"odom\" is "
-                            "already an ancestor of \"velodyne\"")
