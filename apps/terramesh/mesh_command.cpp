@@ -184,9 +184,6 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   if (o.resume_path) resumed_ = readMeshCheckpoint(*o.resume_path, stream_);
   config_ = resumed_ ? resumed_->mesher.config() : mesherConfigFrom(o.mesher, mode, stream_);
   if (!resumed_) inferred_ = describeInferredSettings(o.mesher, stream_, config_);
-  if (!o.quiet) {
-    for (const std::string& line : inferred_) std::cerr << "terramesh: inferred: " << line << '\n';
-  }
   traversability_ = TraversabilitySession::fromOptions(o.traversability, stream_, config_.metres_per_unit, output_);
   if (tile_) tile_->attach(*traversability_, exportConfigFrom(o.traversability.exports), config_.metres_per_unit);
   evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr);
@@ -209,6 +206,10 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   // The poses first: the layers read where the robot faced on its driven samples.
   if (resumed_) evidence_.replay(stream_, state_.next_event);
   if (traversability_ && resumed_) traversability_->resume(*mesher_, state_.keyframes);
+  // Said once the options proved valid: a refused run prints its one error line only.
+  if (!o.quiet) {
+    for (const std::string& line : inferred_) std::cerr << "terramesh: inferred: " << line << '\n';
+  }
   if (!o.quiet && !evidence_.summary().empty()) std::cerr << "terramesh: " << evidence_.summary() << '\n';
   if (!o.quiet && evidence_.warning()) std::cerr << "terramesh: warning: " << *evidence_.warning() << '\n';
   const bool scale_known = stream_.scale_known || o.mesher.metres_per_unit.has_value();
