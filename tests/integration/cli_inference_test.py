@@ -160,13 +160,14 @@ class InferredFrameTest(unittest.TestCase):
         self.assertGreater(counts[None], counts["3"])
         # A LiDAR sequence advises 1 view: every return is a point (with 2 it would keep none).
         scene = self.path("lidar_scene")
-        result = run("generate", "street", "--length-m", "20", "--seed", "2", "--lidar", "-o", scene, "--quiet")
+        result = run("generate", "street", "--length-m", "20", "--seed", "2", "--lidar", "--lidar-scans", "2", "-o", scene,
+                     "--quiet")
         self.assertEqual(result.returncode, 0, result.stderr)
         out = self.path("lidar.pcd")
         result = run("convert", os.path.join(scene, "lidar"), out)
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertIn("at least 1 keyframe(s) (as the input advises", result.stdout + result.stderr)
-        self.assertGreater(points(out), 100000)
+        self.assertGreater(points(out), 50000)  # two scans of ~120k returns, those in range
 
     def test_eval_takes_the_views_beside_the_truth(self):
         truth = os.path.join(self.scene, "ground_truth.ply")
