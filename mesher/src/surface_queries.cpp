@@ -146,7 +146,14 @@ std::vector<SurfaceFace> Mesher::Impl::surfaceFaces() const {
 }
 
 std::vector<SurfaceFace> Mesher::Impl::facesAround(const std::vector<VertexKey>& vertices) const {
-  std::vector<SurfaceFace> faces;
+  // The surface facets around the vertices, each once (a face around several of them is found
+  // from each): keyed first, so that every face is built once, in key order.
+  struct Facet {
+    FaceKey key;
+    CellHandle front;
+    int index = 0;
+  };
+  std::vector<Facet> facets;
   std::vector<CellHandle> star;
   for (const VertexKey& key : vertices) {
     const VertexHandle v = vertexOf(key);
@@ -157,14 +164,23 @@ std::vector<SurfaceFace> Mesher::Impl::facesAround(const std::vector<VertexKey>&
       if (!cell->info().outside()) continue;
       const int own = cell->index(v);
       for (int i = 0; i < 4; ++i) {
-        if (i != own && !cell->neighbor(i)->info().outside()) faces.push_back(makeFace(cell, i));
+        if (i == own || cell->neighbor(i)->info().outside()) continue;
+        std::array<VertexKey, 3> keys;
+        for (int k = 0; k < 3; ++k) {
+          keys[static_cast<std::size_t>(k)] =
+              state_.outside.vertexKey(cell->vertex(Delaunay::vertex_triple_index(i, k)));
+        }
+        facets.push_back({FaceKey::of(keys[0], keys[1], keys[2]), cell, i});
       }
     }
   }
-  sortByKey(faces);
-  faces.erase(std::unique(faces.begin(), faces.end(),
-                          [](const SurfaceFace& a, const SurfaceFace& b) { return a.key == b.key; }),
-              faces.end());
+  // A face's front cell is the one outside cell on its facet: equal keys are the same facet.
+  std::sort(facets.begin(), facets.end(), [](const Facet& a, const Facet& b) { return a.key < b.key; });
+  facets.erase(std::unique(facets.begin(), facets.end(), [](const Facet& a, const Facet& b) { return a.key == b.key; }),
+               facets.end());
+  std::vector<SurfaceFace> faces;
+  faces.reserve(facets.size());
+  for (const Facet& facet : facets) faces.push_back(makeFace(facet.front, facet.index));
   return faces;
 }
 
