@@ -31,6 +31,10 @@ std::vector<SurfaceFace> Mesher::facesAround(const std::vector<VertexKey>& verti
   return impl_->facesAround(vertices);
 }
 std::vector<UnconfirmedPoint> Mesher::unconfirmedPoints() const { return impl_->unconfirmedPoints(); }
+UnconfirmedCursor Mesher::unconfirmedCursor() const { return impl_->unconfirmedCursor(); }
+UnconfirmedChanges Mesher::unconfirmedChangesSince(const UnconfirmedCursor& cursor) const {
+  return impl_->unconfirmedChangesSince(cursor);
+}
 MapSize Mesher::size() const { return impl_->size(); }
 const MesherConfig& Mesher::config() const { return impl_->config(); }
 std::vector<CellVisibility> Mesher::cellVisibility() const { return impl_->cellVisibility(); }

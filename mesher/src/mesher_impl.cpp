@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <unordered_set>
@@ -129,7 +130,11 @@ void eraseValue(std::vector<T>& items, const T& value) {
 }  // namespace
 
 Mesher::Impl::Impl(const MesherConfig& config)
-    : state_(config), tracer_(state_), editor_(state_, tracer_), shrinker_(state_), grower_(state_) {}
+    : state_(config), tracer_(state_), editor_(state_, tracer_), shrinker_(state_), grower_(state_) {
+  std::random_device entropy;
+  // Never 0: a default UnconfirmedCursor belongs to no mesher.
+  instance_ = ((static_cast<std::uint64_t>(entropy()) << 32) | entropy()) | 1u;
+}
 
 // ---- Bookkeeping ---------------------------------------------------------------------------
 
@@ -362,6 +367,7 @@ UpdateStats Mesher::Impl::run(UpdatePlan& plan, UpdateStats stats) {
   for (const auto* list : {&plan.classified, &plan.remove, &plan.forget}) {
     for (std::uint32_t index : *list) state_.registry.refreshWaiting(index);
   }
+  state_.registry.commitWaiting();
   state_.surface_log.commit();
   clock.enter(Step::kIdle);
   stats.time.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

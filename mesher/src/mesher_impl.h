@@ -31,6 +31,8 @@ class Mesher::Impl {
   std::vector<SurfaceFace> surfaceFaces() const;
   std::vector<SurfaceFace> facesAround(const std::vector<VertexKey>& vertices) const;
   std::vector<UnconfirmedPoint> unconfirmedPoints() const;
+  UnconfirmedCursor unconfirmedCursor() const { return {instance_, state_.registry.waitingRevision()}; }
+  UnconfirmedChanges unconfirmedChangesSince(const UnconfirmedCursor& cursor) const;
   MapSize size() const;
   InvariantReport checkInvariants() const;
   std::vector<CellVisibility> cellVisibility() const;
@@ -90,6 +92,8 @@ class Mesher::Impl {
   void untraceAndDestroyRaysOf(std::uint32_t point, UpdateStats& stats);
 
   internal::MapState state_;
+  /// This mesher's identity in UnconfirmedCursor (drawn once: another mesher's cursor is foreign).
+  std::uint64_t instance_ = 0;
   internal::VisibilityTracer tracer_;
   internal::TriangulationEditor editor_;
   internal::Shrinker shrinker_;

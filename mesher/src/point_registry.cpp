@@ -46,12 +46,14 @@ void PointRegistry::erasePoint(std::uint32_t index) {
   assert(record.alive && !record.inserted() && record.rays.empty());
   point_index_.erase(record.id);
   waiting_.erase(index);
+  waiting_journal_.emplace_back(waiting_revision_ + 1, record.id);
   record = PointRecord{};
   free_points_.push_back(index);
 }
 
 void PointRegistry::refreshWaiting(std::uint32_t index) {
   const PointRecord& record = points_[index];
+  if (record.alive) waiting_journal_.emplace_back(waiting_revision_ + 1, record.id);
   if (record.alive && record.kind == PointKind::kSlam && !record.inserted() && !record.keyframes.empty()) {
     waiting_.insert(index);
   } else {
@@ -62,6 +64,29 @@ void PointRegistry::refreshWaiting(std::uint32_t index) {
 void PointRegistry::rebuildWaiting() {
   waiting_.clear();
   for (std::size_t i = 0; i < points_.size(); ++i) refreshWaiting(static_cast<std::uint32_t>(i));
+  waiting_journal_.clear();
+  waiting_forgotten_ = waiting_revision_;
+}
+
+void PointRegistry::commitWaiting() {
+  ++waiting_revision_;
+  if (waiting_revision_ <= kWaitingRevisionsKept) return;
+  const std::uint64_t oldest_kept = waiting_revision_ - kWaitingRevisionsKept;
+  while (!waiting_journal_.empty() && waiting_journal_.front().first <= oldest_kept) waiting_journal_.pop_front();
+  waiting_forgotten_ = std::max(waiting_forgotten_, oldest_kept);
+}
+
+std::optional<std::vector<PointId>> PointRegistry::waitingChangesSince(std::uint64_t from) const {
+  if (from < waiting_forgotten_ || from > waiting_revision_) return std::nullopt;
+  // Entries are in revision order: the first after `from` found by binary search.
+  const auto first = std::upper_bound(waiting_journal_.begin(), waiting_journal_.end(), from,
+                                      [](std::uint64_t r, const std::pair<std::uint64_t, PointId>& e) { return r < e.first; });
+  std::vector<PointId> ids;
+  ids.reserve(static_cast<std::size_t>(waiting_journal_.end() - first));
+  for (auto it = first; it != waiting_journal_.end() && it->first <= waiting_revision_; ++it) ids.push_back(it->second);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
 }
 
 std::uint32_t PointRegistry::findOrCreateKeyframe(KeyframeId id, bool& created) {

@@ -3,7 +3,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <deque>
+#include <optional>
 #include <unordered_map>
+#include <utility>
 #include <unordered_set>
 #include <vector>
 
@@ -84,7 +87,19 @@ class PointRegistry {
   /// Re-reads whether the point at `index` is waiting: alive, a SLAM point, observed, not inserted.
   void refreshWaiting(std::uint32_t index);
   /// Rebuilds the waiting set from the records (after loading a checkpoint). O(point slots).
+  /// Forgets the journal: no revision before this one can be answered.
   void rebuildWaiting();
+
+  /// The journal of the waiting set: every point refreshWaiting re-read or erasePoint erased
+  /// (its membership or position may have changed) is logged at the revision that the next
+  /// commitWaiting() closes. Revisions older than kWaitingRevisionsKept are dropped.
+  static constexpr std::uint64_t kWaitingRevisionsKept = 256;
+  /// Closes the current revision (once per mesher update). O(entries dropped).
+  void commitWaiting();
+  std::uint64_t waitingRevision() const { return waiting_revision_; }
+  /// The ids logged after revision `from`, sorted and unique; nullopt if the journal no longer
+  /// reaches back to `from` (or `from` is newer than the current revision).
+  std::optional<std::vector<PointId>> waitingChangesSince(std::uint64_t from) const;
 
   /// Estimated bytes of the point and keyframe records and their lists, given the ray count. O(1).
   std::size_t pointBytes(std::size_t rays) const;
@@ -102,6 +117,10 @@ class PointRegistry {
   std::unordered_map<KeyframeId, std::uint32_t> keyframe_index_;
   std::size_t observation_links_ = 0;
   std::unordered_set<std::uint32_t> waiting_;
+  std::uint64_t waiting_revision_ = 0;
+  /// (revision, id) in revision order; revisions <= waiting_forgotten_ are gone.
+  std::deque<std::pair<std::uint64_t, PointId>> waiting_journal_;
+  std::uint64_t waiting_forgotten_ = 0;
 };
 
 }  // namespace terramesh::mesher::internal

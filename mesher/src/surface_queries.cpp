@@ -196,4 +196,23 @@ std::vector<UnconfirmedPoint> Mesher::Impl::unconfirmedPoints() const {
   return points;
 }
 
+UnconfirmedChanges Mesher::Impl::unconfirmedChangesSince(const UnconfirmedCursor& cursor) const {
+  UnconfirmedChanges changes;
+  changes.cursor = unconfirmedCursor();
+  if (cursor.instance != instance_) return changes;
+  const std::optional<std::vector<PointId>> logged = state_.registry.waitingChangesSince(cursor.revision);
+  if (!logged) return changes;
+  changes.complete = true;
+  for (const PointId id : *logged) {
+    const std::uint32_t index = state_.registry.findPoint(id);
+    if (index != internal::kNone && state_.registry.waitingPoints().count(index) != 0) {
+      const internal::PointRecord& record = state_.registry.point(index);
+      changes.waiting.push_back({record.id, record.latest_W, static_cast<std::uint32_t>(record.keyframes.size())});
+    } else {
+      changes.gone.push_back(id);
+    }
+  }
+  return changes;
+}
+
 }  // namespace terramesh::mesher

@@ -1,7 +1,8 @@
 // Surface deltas are exact: replaying Mesher::changesSince after every update onto a face map gives
 // exactly extractMesh() (faces, winding, positions, vertex keys) and surfaceFaces() (observation
 // counts, refreshed through facesAround(touched_vertices)), on KITTI 00, a synthetic street and
-// analytic scenes with moving and removed points, in every mode.
+// analytic scenes with moving and removed points, in every mode. So does replaying
+// unconfirmedChangesSince onto a copy of unconfirmedPoints().
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -149,8 +150,41 @@ void expectMatches(const Mesher& mesher, const Replica& replica, const std::stri
   ASSERT_TRUE(sameFaces(replica.faces, current, true)) << where << " (against surfaceFaces)";
 }
 
+/// A consumer's copy of the unconfirmed points, kept up to date from unconfirmedChangesSince
+/// (the whole set when the cursor is not answered).
+struct UnconfirmedReplica {
+  std::map<PointId, UnconfirmedPoint> points;
+  UnconfirmedCursor cursor;
+
+  void follow(const Mesher& mesher) {
+    const UnconfirmedChanges changes = mesher.unconfirmedChangesSince(cursor);
+    if (!changes.complete) {
+      points.clear();
+      for (const UnconfirmedPoint& p : mesher.unconfirmedPoints()) points[p.id] = p;
+    } else {
+      for (const PointId id : changes.gone) points.erase(id);
+      for (const UnconfirmedPoint& p : changes.waiting) points[p.id] = p;
+    }
+    cursor = changes.cursor;
+  }
+  ::testing::AssertionResult matches(const Mesher& mesher) const {
+    const std::vector<UnconfirmedPoint> now = mesher.unconfirmedPoints();
+    if (now.size() != points.size()) {
+      return ::testing::AssertionFailure() << points.size() << " unconfirmed points, the mesher has " << now.size();
+    }
+    for (const UnconfirmedPoint& p : now) {
+      const auto it = points.find(p.id);
+      if (it == points.end() || it->second.position_W != p.position_W || it->second.views != p.views) {
+        return ::testing::AssertionFailure() << "point " << p.id.value << " missing or stale";
+      }
+    }
+    return ::testing::AssertionSuccess();
+  }
+};
+
 /// Replays deltas after every update; every 5 updates also replays one delta spanning the last 4
-/// updates onto an older copy, as a consumer that skipped updates would.
+/// updates onto an older copy, as a consumer that skipped updates would. The unconfirmed points
+/// are replayed the same way.
 class DeltaChecker {
  public:
   explicit DeltaChecker(Mesher& mesher) : mesher_(mesher) {}
@@ -169,12 +203,20 @@ class DeltaChecker {
     replica_.apply(mesher_, delta);
     if (::testing::Test::HasFatalFailure()) return;
     expectMatches(mesher_, replica_, where);
-    if (updates_ % 5 == 1) stale_ = replica_;
+    unconfirmed_.follow(mesher_);
+    ASSERT_TRUE(unconfirmed_.matches(mesher_)) << where << " (unconfirmed points)";
+    if (updates_ % 5 == 1) {
+      stale_ = replica_;
+      stale_unconfirmed_ = unconfirmed_;
+    }
     if (updates_ % 5 == 0) {
       const SurfaceDelta chained = mesher_.changesSince(stale_.revision);
       stale_.apply(mesher_, chained);
       if (::testing::Test::HasFatalFailure()) return;
       ASSERT_TRUE(sameFaces(stale_.faces, replica_.faces, true)) << where << " (delta over 4 updates)";
+      ASSERT_TRUE(mesher_.unconfirmedChangesSince(stale_unconfirmed_.cursor).complete) << where;
+      stale_unconfirmed_.follow(mesher_);
+      ASSERT_TRUE(stale_unconfirmed_.matches(mesher_)) << where << " (unconfirmed points over 4 updates)";
       ++stale_checks_;
     }
   }
@@ -187,6 +229,8 @@ class DeltaChecker {
   Mesher& mesher_;
   Replica replica_;
   Replica stale_;
+  UnconfirmedReplica unconfirmed_;
+  UnconfirmedReplica stale_unconfirmed_;
   std::size_t updates_ = 0;
   std::size_t added_ = 0;
   std::size_t removed_ = 0;
@@ -367,6 +411,26 @@ TEST(SurfaceDeltaTest, StaleFutureAndForgottenRevisions) {
     EXPECT_TRUE(forgotten.removed.empty() && forgotten.added.empty() && forgotten.touched_vertices.empty());
   }
   EXPECT_THROW(mesher.changesSince(now + 1), std::invalid_argument);
+}
+
+TEST(SurfaceDeltaTest, UnconfirmedCursorsOfAnotherMesherOrTooOldAreNotAnswered) {
+  TogglingScene toggling;
+  Mesher& mesher = toggling.mesher;
+  const UnconfirmedCursor start = mesher.unconfirmedCursor();
+  EXPECT_TRUE(mesher.unconfirmedChangesSince(start).complete);
+  EXPECT_FALSE(mesher.unconfirmedChangesSince(UnconfirmedCursor{}).complete) << "a default cursor is no mesher's";
+  TogglingScene other;
+  EXPECT_FALSE(mesher.unconfirmedChangesSince(other.mesher.unconfirmedCursor()).complete) << "another mesher's";
+  UnconfirmedCursor future = start;
+  ++future.revision;
+  EXPECT_FALSE(mesher.unconfirmedChangesSince(future).complete);
+  for (int i = 0; i < 256; ++i) toggling.step(i % 2 == 0);
+  EXPECT_TRUE(mesher.unconfirmedChangesSince(start).complete) << "256 updates are kept";
+  toggling.step(true);
+  const UnconfirmedChanges forgotten = mesher.unconfirmedChangesSince(start);
+  EXPECT_FALSE(forgotten.complete) << "257 are not";
+  EXPECT_TRUE(forgotten.waiting.empty() && forgotten.gone.empty());
+  EXPECT_TRUE(mesher.unconfirmedChangesSince(forgotten.cursor).complete);
 }
 
 TEST(SurfaceDeltaTest, RaysCountStoredRaysAtTheVerticesAndCrossingsInFrontAndBehind) {

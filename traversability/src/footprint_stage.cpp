@@ -25,6 +25,12 @@ bool FootprintStage::replaceUnconfirmed(const std::vector<mesher::UnconfirmedPoi
   return point_changes_.size() != before;
 }
 
+bool FootprintStage::applyUnconfirmed(const mesher::UnconfirmedChanges& changes) {
+  const std::size_t before = point_changes_.size();
+  unconfirmed_.apply(changes, point_changes_);
+  return point_changes_.size() != before;
+}
+
 void FootprintStage::resize(std::size_t slots) {
   window_.resize(slots);
   marks_.resize(slots);

@@ -75,6 +75,8 @@ class FootprintStage final : public LayerStage {
   /// Replaces the unconfirmed points; the faces they reach are judged by the next update (or all
   /// of them by computeAll). Returns whether any point changed.
   bool replaceUnconfirmed(const std::vector<mesher::UnconfirmedPoint>& points);
+  /// The same from the changes since the last set (UnconfirmedPoints::apply).
+  bool applyUnconfirmed(const mesher::UnconfirmedChanges& changes);
   std::size_t unconfirmedCount() const { return unconfirmed_.size(); }
 
  private:

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -69,7 +70,23 @@ class TraversabilityMap::Impl {
   /// Replaces the unconfirmed points; the faces they reach are re-judged by the next apply()
   /// (or all of them by reset()). Returns whether any point changed.
   bool replaceUnconfirmed(const std::vector<mesher::UnconfirmedPoint>& points) {
+    unconfirmed_cursor_.reset();
     return footprint_->replaceUnconfirmed(points);
+  }
+  /// Brings the unconfirmed points up to `mesher`'s: the changes since the last time this map read
+  /// that mesher's points, else the whole set. Returns whether any point changed.
+  bool followUnconfirmed(const mesher::Mesher& mesher) {
+    if (unconfirmed_cursor_) {
+      const mesher::UnconfirmedChanges changes = mesher.unconfirmedChangesSince(*unconfirmed_cursor_);
+      if (changes.complete) {
+        unconfirmed_cursor_ = changes.cursor;
+        return footprint_->applyUnconfirmed(changes);
+      }
+    }
+    const mesher::UnconfirmedCursor cursor = mesher.unconfirmedCursor();
+    const bool changed = footprint_->replaceUnconfirmed(mesher.unconfirmedPoints());
+    unconfirmed_cursor_ = cursor;
+    return changed;
   }
   std::size_t unconfirmedCount() const { return footprint_->unconfirmedCount(); }
   void setDrivePoses(DrivePoseLookup lookup) { drive_poses_ = std::move(lookup); }
@@ -241,6 +258,9 @@ class TraversabilityMap::Impl {
   internal::StageChanges changes_;
   std::vector<Slot> scratch_neighbours_;
   std::unordered_set<mesher::FaceKey> unchanged_;
+  /// Where the unconfirmed points were last read from a mesher (followUnconfirmed); none after
+  /// a set given whole.
+  std::optional<mesher::UnconfirmedCursor> unconfirmed_cursor_;
 };
 
 TraversabilityMap::TraversabilityMap(const RobotProfile& profile, const MapFrame& frame) {
@@ -257,7 +277,7 @@ LayerUpdateStats TraversabilityMap::update(const mesher::Mesher& mesher, std::ui
   const auto start = std::chrono::steady_clock::now();
   const mesher::SurfaceDelta delta = mesher.changesSince(from_revision);
   LayerUpdateStats stats;
-  const bool points_changed = impl_->replaceUnconfirmed(mesher.unconfirmedPoints());
+  const bool points_changed = impl_->followUnconfirmed(mesher);
   if (!delta.complete) {
     stats = impl_->reset(mesher.surfaceFaces());
   } else if (!delta.empty() || points_changed) {

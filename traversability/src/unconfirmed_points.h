@@ -21,6 +21,10 @@ class UnconfirmedPoints {
   /// Replaces the set by `points` (map frame). Appends to `changed_L` the positions (L) of the
   /// points added and removed, and both positions of those that moved. O(old + new size).
   void replace(const std::vector<mesher::UnconfirmedPoint>& points, std::vector<Eigen::Vector3d>& changed_L);
+  /// Applies the changes of mesher::Mesher::unconfirmedChangesSince (complete): the same set, and
+  /// the same positions appended to `changed_L`, as replace() with the whole new set would give.
+  /// O(changes).
+  void apply(const mesher::UnconfirmedChanges& changes, std::vector<Eigen::Vector3d>& changed_L);
 
   /// Calls `visit(p_L)` for every point (at least) whose horizontal position lies in the box
   /// [lo, hi] (L): the points of the grid cells it overlaps, or all of them when that is cheaper.

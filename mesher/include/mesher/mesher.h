@@ -57,6 +57,26 @@ struct UnconfirmedPoint {
   std::uint32_t views = 0;
 };
 
+/// A position in the history of the unconfirmed points (Mesher::unconfirmedChangesSince): which
+/// mesher, and after which of its updates.
+struct UnconfirmedCursor {
+  std::uint64_t instance = 0;
+  std::uint64_t revision = 0;
+};
+
+/// The unconfirmed points that may have changed since a cursor, as they are now.
+struct UnconfirmedChanges {
+  /// Now: the cursor to pass next time.
+  UnconfirmedCursor cursor;
+  /// False when the cursor is another mesher's or older than the history kept: then nothing
+  /// else is filled, and unconfirmedPoints() gives the whole set.
+  bool complete = false;
+  /// Points that may have changed and are unconfirmed now, sorted by id.
+  std::vector<UnconfirmedPoint> waiting;
+  /// Points that may have changed and are not unconfirmed now (inserted, removed), sorted.
+  std::vector<PointId> gone;
+};
+
 /// Result of Mesher::checkInvariants: every violation found, described in one line each.
 struct InvariantReport {
   std::vector<std::string> violations;
@@ -137,6 +157,12 @@ class Mesher {
   /// Every unconfirmed SLAM point (driven-ground samples never are), sorted by id. O(n log n) in
   /// their number, kept current by every update.
   std::vector<UnconfirmedPoint> unconfirmedPoints() const;
+  /// The cursor of the current state (with unconfirmedPoints(): where its history starts).
+  UnconfirmedCursor unconfirmedCursor() const;
+  /// What changed in the unconfirmed set since `cursor`: the points any update since logged (a
+  /// superset of those that entered, left or moved), as they are now. Kept for the last
+  /// 256 updates. O(points logged log points logged).
+  UnconfirmedChanges unconfirmedChangesSince(const UnconfirmedCursor& cursor) const;
 
   MapSize size() const;
   const MesherConfig& config() const;
