@@ -10,7 +10,7 @@ void UnconfirmedPoints::replace(const std::vector<mesher::UnconfirmedPoint>& poi
   HashMap<std::uint64_t, Eigen::Vector3d> next;
   next.reserve(points.size());
   for (const mesher::UnconfirmedPoint& point : points) {
-    const Eigen::Vector3d p_L = R_L_W_ * (point.position_W * metres_per_unit_);
+    const Eigen::Vector3d p_L = toL(point.position_W);
     if (!p_L.allFinite()) continue;
     next.emplace(point.id.value, p_L);
   }
@@ -39,7 +39,7 @@ void UnconfirmedPoints::apply(const mesher::UnconfirmedChanges& changes, std::ve
   };
   for (const mesher::PointId id : changes.gone) remove(id.value);
   for (const mesher::UnconfirmedPoint& point : changes.waiting) {
-    const Eigen::Vector3d p_L = R_L_W_ * (point.position_W * metres_per_unit_);
+    const Eigen::Vector3d p_L = toL(point.position_W);
     const auto it = points_.find(point.id.value);
     if (it != points_.end() && p_L.allFinite() && it->second == p_L) continue;
     remove(point.id.value);

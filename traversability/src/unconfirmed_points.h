@@ -47,6 +47,9 @@ class UnconfirmedPoints {
     Eigen::Vector3d p_L = Eigen::Vector3d::Zero();
     bool operator==(const Entry& other) const { return id == other.id; }
   };
+  /// A mesher position (map frame, map units) in L.
+  Eigen::Vector3d toL(const Eigen::Vector3d& position_W) const { return R_L_W_ * (position_W * metres_per_unit_); }
+
   HashMap<std::uint64_t, Eigen::Vector3d> points_;
   HorizontalGrid<Entry> grid_;
 };
