@@ -93,12 +93,13 @@ done
 # share of it the truth does not rule out for the robot (all but ground where the truth says its
 # footprint does not fit: centred off the path, it reaches beyond where the body swept) and the
 # free share of that part. The camera height is the one the run's mesh.ply records (its estimate
-# from the data).
+# from the data). "underfoot": the same strip by ground area, each 0.1 m column taking the highest
+# map face in the band that does not face down (none: no surface there).
 echo
 echo "## Synthetic scenes: the swept footprint (map under the path, within the robot's half-width)"
 echo
-echo "| scene | robot | free | lethal | unknown | uncertain | free: truth distance median m | p90 m | truth: robot fits | free where it fits |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| scene | robot | free | lethal | unknown | uncertain | free: truth distance median m | p90 m | truth: robot fits | free where it fits | underfoot: free | lethal | uncertain | none | free where it fits |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 half_width() {
   awk '/^ *radius_m:/ { r = $2 } /^ *width_m:/ { w = $2 / 2 } END { print (w > 0 ? w : r) }' "$1"
 }
@@ -113,10 +114,13 @@ for seed in "${seeds[@]}"; do
         --road-under-path "$out/$scene/stream.tmstream" \
         --lateral-m "$(half_width "$robot_file")" --report "$out/${scene}_${robot}_swept.txt" --quiet
       awk -v scene="$scene" -v robot="$robot" '{ v[$1] = $2 } END {
-          printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot, v["road_free_fraction"],
-            v["road_lethal_fraction"], v["road_unknown_fraction"], v["road_uncertain_fraction"],
+          printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot,
+            v["road_free_fraction"], v["road_lethal_fraction"], v["road_unknown_fraction"], v["road_uncertain_fraction"],
             v["road_free_truth_distance_median_m"], v["road_free_truth_distance_p90_m"],
-            v["road_truth_fits_fraction"], v["road_free_where_truth_fits_fraction"]
+            v["road_truth_fits_fraction"], v["road_free_where_truth_fits_fraction"],
+            v["road_underfoot_free_fraction"], v["road_underfoot_lethal_fraction"],
+            v["road_underfoot_uncertain_fraction"], v["road_underfoot_none_fraction"],
+            v["road_underfoot_free_where_truth_fits_fraction"]
         }' "$out/${scene}_${robot}_swept.txt"
     done
   done

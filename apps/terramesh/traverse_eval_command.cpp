@@ -396,11 +396,18 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
          << "road_unknown_fraction " << fixed(road.unknown_fraction) << '\n'
          << "road_uncertain_fraction " << fixed(road.uncertain_fraction) << '\n';
   reportReasons(report, "road", road.reason_fraction);
+  report << "road_underfoot_free_fraction " << fixed(road.underfoot_free_fraction) << '\n'
+         << "road_underfoot_lethal_fraction " << fixed(road.underfoot_lethal_fraction) << '\n'
+         << "road_underfoot_unknown_fraction " << fixed(road.underfoot_unknown_fraction) << '\n'
+         << "road_underfoot_uncertain_fraction " << fixed(road.underfoot_uncertain_fraction) << '\n'
+         << "road_underfoot_none_fraction " << fixed(road.underfoot_none_fraction) << '\n';
   if (truth) {
     report << "road_free_truth_distance_median_m " << fixed(road.free_truth_distance_median_m) << '\n'
            << "road_free_truth_distance_p90_m " << fixed(road.free_truth_distance_p90_m) << '\n'
            << "road_truth_fits_fraction " << fixed(road.truth_fits_fraction) << '\n'
-           << "road_free_where_truth_fits_fraction " << fixed(road.free_where_truth_fits_fraction) << '\n';
+           << "road_free_where_truth_fits_fraction " << fixed(road.free_where_truth_fits_fraction) << '\n'
+           << "road_underfoot_free_where_truth_fits_fraction "
+           << fixed(road.underfoot_free_where_truth_fits_fraction) << '\n';
     reportAreas(report, "road_truth_fits", road.where_truth_fits);
   }
   if (options.lidar_ground) reportGroundUnderPath(options, map, positions, up, config, report);
@@ -425,7 +432,10 @@ int runTraverseEval(const std::vector<std::string>& args) {
                  "metres_per_unit; up from the keyframes' orientations); with --gt-mesh too, also how far the "
                  "free part lies from the truth (median and 90th percentile), and the share the truth does not rule "
                  "out for the robot (road_truth_fits_fraction: all but ground where its footprint does not fit) "
-                 "with the free share of that part (road_free_where_truth_fits_fraction).\n"
+                 "with the free share of that part (road_free_where_truth_fits_fraction). The road_underfoot_* "
+                 "shares judge the same strip by ground area: a 0.1 m grid of columns, each taking the highest "
+                 "map face in the band that does not face down (none: a hole), so a steep or hidden face weighs "
+                 "what it covers of the ground.\n"
                  "With --path (and --gt-mesh): per path, path_valid FILE 1 if it passes planner_demo's strict "
                  "ground-truth check for the map's robot, else 0 and path_reason FILE the first failure.\n"
                  "With --lidar-ground (and --road-under-path): the measured points in the same band are the "

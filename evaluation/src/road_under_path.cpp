@@ -5,8 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "datasets/triangle_bvh.h"
 #include "evaluation/mesh_refinement.h"
@@ -97,6 +99,82 @@ MetricPath metricPath(const traversability::LayeredMesh& map, const std::vector<
   return out;
 }
 
+/// Whether the truth rules the robot out at truth face `face`: ground where its footprint does not
+/// fit (a piece nearest a non-ground face stays in: the robot drove there).
+bool truthRulesOut(const GroundTruthTraversability& truth, std::uint32_t face) {
+  return !truth.traversable[face] && truth.reasons[face] != TruthReason::kNotGround;
+}
+
+/// The highest face of `bvh` that does not face down on the vertical down from `top` (metres),
+/// within `depth` of it.
+std::optional<datasets::RayHit> highestFacingUp(const datasets::TriangleBvh& bvh, const mesher::TriangleMesh& mesh,
+                                                const Eigen::Vector3d& up, Eigen::Vector3d top, double depth) {
+  constexpr int kMaxSkipped = 16;
+  constexpr double kStepM = 1e-6;
+  for (int skipped = 0; skipped <= kMaxSkipped && depth > 0; ++skipped) {
+    const std::optional<datasets::RayHit> hit = bvh.firstHit(top, -up, depth);
+    if (!hit || !facesDown(mesh, hit->face, up)) return hit;
+    top = hit->point - kStepM * up;
+    depth -= hit->distance + kStepM;
+  }
+  return std::nullopt;
+}
+
+/// Fills `out`'s underfoot figures: the strip judged column by column (RoadUnderPath::underfoot).
+void judgeColumns(const traversability::LayeredMesh& map, const mesher::TriangleMesh& metric, const MetricPath& path,
+                  const RoadUnderPathConfig& config, const GroundTruthTraversability* truth_labels,
+                  const datasets::TriangleBvh* truth, RoadUnderPath& out) {
+  const Eigen::Vector3d& up = path.up;
+  const Eigen::Vector3d e1 =
+      (std::abs(up.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(up).normalized();
+  const Eigen::Vector3d e2 = up.cross(e1);
+  const double s = config.column_spacing_m;
+  const double cell_m2 = s * s;
+  const std::unique_ptr<datasets::TriangleBvh> bvh =
+      metric.faces.empty() ? nullptr : std::make_unique<datasets::TriangleBvh>(metric);
+  std::unordered_set<std::uint64_t> seen;
+  ClassAreas fits;
+  double fits_none_m2 = 0;
+  for (std::size_t i = 0; i + 1 < path.path.size(); ++i) {
+    const Eigen::Vector2d a(e1.dot(path.path[i]), e2.dot(path.path[i]));
+    const Eigen::Vector2d b(e1.dot(path.path[i + 1]), e2.dot(path.path[i + 1]));
+    const Eigen::Vector2d lo = (a.cwiseMin(b).array() - config.lateral_m) / s - 1;
+    const Eigen::Vector2d hi = (a.cwiseMax(b).array() + config.lateral_m) / s;
+    const auto u0 = static_cast<std::int64_t>(std::floor(lo.x())), u1 = static_cast<std::int64_t>(std::ceil(hi.x()));
+    const auto v0 = static_cast<std::int64_t>(std::floor(lo.y())), v1 = static_cast<std::int64_t>(std::ceil(hi.y()));
+    for (std::int64_t u = u0; u <= u1; ++u) {
+      for (std::int64_t v = v0; v <= v1; ++v) {
+        if (!seen.insert((static_cast<std::uint64_t>(u) << 32) ^ static_cast<std::uint32_t>(v)).second) continue;
+        // Node centres sit half a cell off the grid lines, so axis-aligned edges split no node.
+        const Eigen::Vector3d ground =
+            (static_cast<double>(u) + 0.5) * s * e1 + (static_cast<double>(v) + 0.5) * s * e2;
+        const PathFoot foot = nearestOnPath(path.path, up, ground);
+        if (foot.distance > config.lateral_m) continue;
+        const double road_height = up.dot(foot.point) - config.camera_height_m;
+        const std::optional<datasets::RayHit> hit =
+            bvh ? highestFacingUp(*bvh, metric, up, ground + (road_height + config.height_tolerance_m) * up,
+                                  2 * config.height_tolerance_m)
+                : std::nullopt;
+        const bool in = !truth || !hit || !truthRulesOut(*truth_labels, truth->closestPoint(hit->point).face);
+        if (!hit) {
+          out.underfoot_none_m2 += cell_m2;
+          if (in) fits_none_m2 += cell_m2;
+          continue;
+        }
+        out.underfoot.add(map.layers[hit->face].face_class, cell_m2);
+        if (in) fits.add(map.layers[hit->face].face_class, cell_m2);
+      }
+    }
+  }
+  const double total = out.underfoot.total() + out.underfoot_none_m2;
+  out.underfoot_free_fraction = ratio(out.underfoot.free_m2, total);
+  out.underfoot_lethal_fraction = ratio(out.underfoot.lethal_m2, total);
+  out.underfoot_unknown_fraction = ratio(out.underfoot.unknown_m2, total);
+  out.underfoot_uncertain_fraction = ratio(out.underfoot.uncertain_m2, total);
+  out.underfoot_none_fraction = ratio(out.underfoot_none_m2, total);
+  if (truth) out.underfoot_free_where_truth_fits_fraction = ratio(fits.free_m2, fits.total() + fits_none_m2);
+}
+
 }  // namespace
 
 void RoadUnderPathConfig::validate() const {
@@ -110,6 +188,7 @@ void RoadUnderPathConfig::validate() const {
   require(height_tolerance_m > 0 && std::isfinite(height_tolerance_m), "height_tolerance_m", height_tolerance_m,
           "> 0");
   require(sample_edge_m >= 0 && std::isfinite(sample_edge_m), "sample_edge_m", sample_edge_m, ">= 0");
+  require(column_spacing_m > 0 && std::isfinite(column_spacing_m), "column_spacing_m", column_spacing_m, "> 0");
   if (problems.tellp() > 0) throw std::invalid_argument("RoadUnderPathConfig: " + problems.str());
 }
 
@@ -162,10 +241,9 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
     if (!truth) continue;
     const datasets::SurfacePoint nearest = truth->closestPoint(centroid);
     if (face_class == traversability::FaceClass::kFree) free_distances.emplace_back(nearest.distance, area);
-    const bool ruled_out = !truth_labels->traversable[nearest.face] &&
-                           truth_labels->reasons[nearest.face] != TruthReason::kNotGround;
-    if (!ruled_out) out.where_truth_fits.add(face_class, area);
+    if (!truthRulesOut(*truth_labels, nearest.face)) out.where_truth_fits.add(face_class, area);
   }
+  judgeColumns(map, metric, metric_path, config, truth_labels, truth.get(), out);
   if (truth) {
     out.truth_fits_fraction = ratio(out.where_truth_fits.total(), out.areas.total());
     out.free_where_truth_fits_fraction = ratio(out.where_truth_fits.free_m2, out.where_truth_fits.total());

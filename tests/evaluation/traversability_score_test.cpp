@@ -220,6 +220,9 @@ TEST(RoadUnderPath, TheTruthJudgesTheStripForTheRobot) {
   EXPECT_NEAR(road.where_truth_fits.uncertain_m2, 1.0, 1e-9);
   EXPECT_NEAR(road.where_truth_fits.lethal_m2, 0.0, 1e-12);
   EXPECT_NEAR(road.free_where_truth_fits_fraction, (half_strip_m2 - 1.0) / half_strip_m2, 0.03);
+  // On a flat map the columns agree with the pieces.
+  EXPECT_NEAR(road.underfoot_free_where_truth_fits_fraction, road.free_where_truth_fits_fraction, 0.02);
+  EXPECT_NEAR(road.underfoot_free_fraction, road.free_fraction, 0.02);
   // The whole strip's free share also counts the lethal half where the robot does not fit.
   EXPECT_NEAR(road.free_fraction, 0.5 * road.free_where_truth_fits_fraction, 0.03);
   // Where the truth has no ground (obstacle tops for x > 2), the robot drove over what the truth
@@ -233,6 +236,50 @@ TEST(RoadUnderPath, TheTruthJudgesTheStripForTheRobot) {
   EXPECT_TRUE(std::isnan(alone.truth_fits_fraction));
   EXPECT_TRUE(std::isnan(alone.free_where_truth_fits_fraction));
   EXPECT_NEAR(alone.free_fraction, road.free_fraction, 1e-12);
+}
+
+TEST(RoadUnderPath, UnderfootColumnsWeighWhatCoversTheGround) {
+  // A free floor at z = 0 over [0, 8] x [-2, 2] under a path along y = 0 from x = 1 to x = 9,
+  // 1.65 m up; its strip (1 m each side, half-discs at the ends) runs past the floor's end into a
+  // hole. Under the floor within the band: a steep uncertain membrane (hidden by the floor). Over
+  // it: a 0.3 m deck underside facing down (not the road), and an uncertain wall 0.4 m tall whose
+  // foot is 0.3 m wide across the strip.
+  LabeledMesh sheets;
+  test::addFloor(sheets, 0, 8, -2, 2, 0, SurfaceLabel::kRoad);
+  const std::size_t floor_faces = sheets.mesh.faces.size();
+  test::addQuad(sheets, {2, -0.5, -0.05}, {6, -0.5, -0.05}, {6, 0.3, -0.45}, {2, 0.3, -0.45}, SurfaceLabel::kRoad);
+  const std::size_t membrane_faces = sheets.mesh.faces.size();
+  test::addQuad(sheets, {6, -1, 0.3}, {6, 1, 0.3}, {7, 1, 0.3}, {7, -1, 0.3}, SurfaceLabel::kCeiling);
+  const std::size_t deck_faces = sheets.mesh.faces.size();
+  test::addQuad(sheets, {3, 0.3, 0}, {4, 0.3, 0}, {4, 0.6, 0.4}, {3, 0.6, 0.4}, SurfaceLabel::kWall);
+  LayeredMesh map;
+  map.mesh = sheets.mesh;
+  for (std::size_t f = 0; f < map.mesh.faces.size(); ++f) {
+    traversability::FaceLayers layers;
+    layers.face_class = f < floor_faces                         ? FaceClass::kFree
+                        : f < membrane_faces || f >= deck_faces ? FaceClass::kUncertain
+                                                                : FaceClass::kLethal;
+    map.layers.push_back(layers);
+  }
+  const std::vector<Eigen::Vector3d> path = {{1, 0, 1.65}, {9, 0, 1.65}};
+  RoadUnderPathConfig config;
+  config.lateral_m = 1.0;
+  const RoadUnderPath road = roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), config);
+  const double strip_m2 = 16.0 + M_PI, hole_m2 = 2.0 + 0.5 * M_PI, wall_m2 = 0.3;
+  const double total_m2 = road.underfoot.total() + road.underfoot_none_m2;
+  EXPECT_NEAR(total_m2, strip_m2, 0.15);
+  EXPECT_NEAR(road.underfoot_none_m2, hole_m2, 0.15);
+  EXPECT_NEAR(road.underfoot.uncertain_m2, wall_m2, 0.05);
+  EXPECT_NEAR(road.underfoot.lethal_m2, 0.0, 1e-12);
+  EXPECT_NEAR(road.underfoot_free_fraction, (strip_m2 - hole_m2 - wall_m2) / strip_m2, 0.01);
+  EXPECT_NEAR(road.underfoot_none_fraction, hole_m2 / strip_m2, 0.01);
+  EXPECT_NEAR(road.underfoot_free_fraction + road.underfoot_uncertain_fraction + road.underfoot_none_fraction, 1.0,
+              1e-9);
+  // The pieces count the hidden membrane and the wall by their own area (3.58 + 0.5 m^2).
+  EXPECT_NEAR(road.areas.uncertain_m2, 4.0 * std::hypot(0.8, 0.4) + 0.5, 0.2);
+  EXPECT_TRUE(std::isnan(road.underfoot_free_where_truth_fits_fraction));
+  config.column_spacing_m = 0;
+  EXPECT_THROW(roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), config), std::invalid_argument);
 }
 
 TEST(GroundUnderPath, MeasuredGroundUnderThePathTakesTheMapFaceOverIt) {

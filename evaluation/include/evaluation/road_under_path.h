@@ -25,6 +25,9 @@ struct RoadUnderPathConfig {
   /// Map faces are split until no edge is longer than this (metres), each piece judged at its
   /// centroid; 0: whole faces.
   double sample_edge_m = 0.25;
+  /// Spacing (metres) of the ground-plane grid of columns that judge the strip by what is
+  /// underfoot (RoadUnderPath::underfoot).
+  double column_spacing_m = 0.1;
   /// @throw std::invalid_argument listing every out-of-range field.
   void validate() const;
 };
@@ -58,6 +61,23 @@ struct RoadUnderPath {
   ClassAreas where_truth_fits;
   double truth_fits_fraction = std::numeric_limits<double>::quiet_NaN();
   double free_where_truth_fits_fraction = std::numeric_limits<double>::quiet_NaN();
+  /// The strip as ground, by columns: a grid of `column_spacing_m` over the plane perpendicular to
+  /// up, every node within lateral_m of the path; each column takes the highest map face within
+  /// the height band that does not face down (what the robot's wheels meet) and weighs the node's
+  /// ground-plane area (m^2). A steep face weighs what it covers of the ground, not its own area,
+  /// and a face hidden under another within the band does not count. `underfoot_none_m2`: columns
+  /// with no map surface in the band.
+  ClassAreas underfoot;
+  double underfoot_none_m2 = 0;
+  /// Each class's share of the columns' area, holes included (NaN if no column).
+  double underfoot_free_fraction = std::numeric_limits<double>::quiet_NaN();
+  double underfoot_lethal_fraction = std::numeric_limits<double>::quiet_NaN();
+  double underfoot_unknown_fraction = std::numeric_limits<double>::quiet_NaN();
+  double underfoot_uncertain_fraction = std::numeric_limits<double>::quiet_NaN();
+  double underfoot_none_fraction = std::numeric_limits<double>::quiet_NaN();
+  /// With a labelled truth: the free share of the columns the truth does not rule out (a column's
+  /// face judged as a piece is, at the truth face nearest its hit; a hole stays in).
+  double underfoot_free_where_truth_fits_fraction = std::numeric_limits<double>::quiet_NaN();
   /// Length of the path, in metres.
   double path_length_m = 0;
 };
