@@ -37,7 +37,7 @@ void writeConfig(const MesherConfig& c, ByteWriter& out) {
   out.f64(c.driven_underside_depth_m);
   out.u8(static_cast<std::uint8_t>(c.point_policy));
   for (bool flag : {c.incremental_steiner_grid, c.local_enclosing_set, c.boundary_hash, c.next_cell_cache,
-                    c.ray_scheduler, c.edge_growing_pass}) {
+                    c.ray_scheduler, c.edge_growing_pass, c.driven_cells_first}) {
     out.u8(flag ? 1 : 0);
   }
   out.f64(c.edge_pass_min_weight);
@@ -77,7 +77,7 @@ MesherConfig readConfig(ByteReader& in) {
   if (policy > static_cast<std::uint8_t>(PointPolicy::kFixedPosition)) in.fail("a point policy 0..1");
   c.point_policy = static_cast<PointPolicy>(policy);
   for (bool* flag : {&c.incremental_steiner_grid, &c.local_enclosing_set, &c.boundary_hash, &c.next_cell_cache,
-                     &c.ray_scheduler, &c.edge_growing_pass}) {
+                     &c.ray_scheduler, &c.edge_growing_pass, &c.driven_cells_first}) {
     *flag = in.flag();
   }
   c.edge_pass_min_weight = in.f64();

@@ -18,7 +18,13 @@ void Grower::push(const CellHandle& cell) {
   if (info.flags & (kCellOutside | kCellQueued)) return;
   if (!state_.isFree(cell) || state_.tri.is_infinite(cell)) return;
   info.flags |= kCellQueued;
-  queue_.push({info.weight, info.uid, cell});
+  // MesherConfig::driven_cells_first: cells the robot's body passed through (a ray to a
+  // driven-ground sample crosses them) grow before all others, by weight among themselves (a parked
+  // car's side points pinched the driven strip's cells between the road and them out of O, issue
+  // 22). Weights stay below 2^31, so the offset orders without overlap.
+  constexpr std::int64_t kDrivenFirst = std::int64_t{1} << 40;
+  const bool first = state_.config.driven_cells_first && info.driven_crossings > 0;
+  queue_.push({info.weight + (first ? kDrivenFirst : 0), info.uid, cell});
 }
 
 void Grower::pushFreeNeighbours(const CellHandle& cell) {
@@ -37,6 +43,7 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
   std::vector<StampedCell> candidates = state_.candidates.take();
   touched_vertices_.clear();
   final_refused_.clear();
+  driven_refused_.clear();
 
   // Bootstrap: an empty O starts from the freest candidate.
   if (state_.outside.size() == 0) {
@@ -68,6 +75,7 @@ void Grower::grow(const std::unordered_set<GridKey, GridKeyHash>* region, Update
   if (state_.config.edge_growing_pass) edgePass(stats);
   genusPass(stats);
   if (state_.config.edge_growing_pass) ballPass(stats);
+  if (state_.config.driven_cells_first) drivenPocketPass(stats);
 }
 
 void Grower::edgePass(UpdateStats& stats) {
@@ -281,6 +289,7 @@ void Grower::drainQueue(UpdateStats& stats) {
   // with O are the candidates of the per-vertex pass.
   if (state_.config.edge_growing_pass) final_refused_.insert(final_refused_.end(), refused.begin(), refused.end());
   for (const CellHandle& cell : refused) {
+    if (state_.config.driven_cells_first && cell->info().driven_crossings > 0) driven_refused_.push_back(cell);
     for (int j = 0; j < 4; ++j) {
       if (!cell->neighbor(j)->info().outside()) continue;
       for (int i = 0; i < 4; ++i) {
@@ -320,6 +329,71 @@ void Grower::genusPass(UpdateStats& stats) {
     for (const CellHandle& cell : to_add) pushFreeNeighbours(cell);
     drainQueue(stats);
   }
+}
+
+void Grower::drivenPocketPass(UpdateStats& stats) {
+  std::vector<CellHandle> seeds;
+  seeds.swap(driven_refused_);
+  std::size_t attempts = 0;
+  for (std::size_t r = 0; r < seeds.size() && attempts < kMaxPocketAttemptsPerGrow; ++r) {
+    const CellHandle cell = seeds[r];
+    if (cell->info().outside() || !adjacentToOutside(cell)) continue;
+    ++attempts;
+    if (tryAddPocket(cell, stats)) seeds.insert(seeds.end(), driven_refused_.begin(), driven_refused_.end());
+    driven_refused_.clear();
+  }
+}
+
+bool Grower::tryAddPocket(const CellHandle& cell, UpdateStats& stats) {
+  std::vector<CellHandle>& pocket = pocket_;
+  const std::uint32_t mark = state_.nextMark();
+  pocket.assign({cell});
+  cell->info().mark = mark;
+  for (std::size_t r = 0; r < pocket.size() && pocket.size() < kMaxPocketCells; ++r) {
+    for (int i = 0; i < 4 && pocket.size() < kMaxPocketCells; ++i) {
+      const CellHandle n = pocket[r]->neighbor(i);
+      if (n->info().mark == mark) continue;
+      n->info().mark = mark;
+      if (!n->info().outside() && !state_.tri.is_infinite(n) && state_.isFree(n)) pocket.push_back(n);
+    }
+  }
+  for (int round = 0; round < kMaxPocketRounds && pocket.size() >= 2; ++round) {
+    VertexHandle failed;
+    if (state_.outside.canAddAll(pocket, &failed)) return tryAddSet(pocket, stats);
+    if (failed == VertexHandle()) return false;
+    // The cell around the failed vertex found last (farthest from `cell`) goes first.
+    const auto last = std::find_if(pocket.rbegin(), pocket.rend(),
+                                   [&failed](const CellHandle& c) { return c->has_vertex(failed); });
+    if (last == pocket.rend()) return false;
+    pocket.erase(std::next(last).base());
+    keepJoinedToOutside(pocket);
+  }
+  return false;
+}
+
+void Grower::keepJoinedToOutside(std::vector<CellHandle>& set) {
+  const std::uint32_t member = state_.nextMark();
+  for (const CellHandle& c : set) c->info().mark = member;
+  const std::uint32_t joined = state_.nextMark();
+  std::vector<CellHandle>& front = scratch_;
+  front.clear();
+  for (const CellHandle& c : set) {
+    if (adjacentToOutside(c)) {
+      c->info().mark = joined;
+      front.push_back(c);
+    }
+  }
+  for (std::size_t r = 0; r < front.size(); ++r) {
+    for (int i = 0; i < 4; ++i) {
+      const CellHandle n = front[r]->neighbor(i);
+      if (n->info().mark != member) continue;
+      n->info().mark = joined;
+      front.push_back(n);
+    }
+  }
+  // Stable: the set keeps its order (nearest the pocket's seed first).
+  set.erase(std::remove_if(set.begin(), set.end(), [joined](const CellHandle& c) { return c->info().mark != joined; }),
+            set.end());
 }
 
 }  // namespace terramesh::mesher::internal

@@ -14,7 +14,8 @@ namespace terramesh::mesher::internal {
 
 class CheckpointAccess;
 
-/// Manifold growing: carves free cells into O in order of decreasing weight, adding a cell only if
+/// Manifold growing: carves free cells into O in order of decreasing weight (cells crossed by a ray
+/// to a driven-ground sample first, the robot's body having passed there), adding a cell only if
 /// the boundary stays a 2-manifold; then (proposed mode) the edge pass, which adds all free cells
 /// around an edge of a refused cell at once; then the per-vertex pass that adds all cells around a
 /// boundary vertex at once (which lets the surface change genus); then (proposed mode) the ball
@@ -41,11 +42,11 @@ class Grower {
   friend class CheckpointAccess;  // saves and restores ball_refusals_ (kept between updates)
 
   struct QueueEntry {
-    std::int32_t weight;
+    std::int64_t priority;
     std::uint32_t uid;
     CellHandle cell;
     bool operator<(const QueueEntry& other) const {
-      return weight != other.weight ? weight < other.weight : uid < other.uid;
+      return priority != other.priority ? priority < other.priority : uid < other.uid;
     }
   };
 
@@ -69,6 +70,16 @@ class Grower {
   /// kMaxBallAttemptsPerGrow per update.
   void ballPass(UpdateStats& stats);
   std::uint64_t neighbourhoodSignature(const CellHandle& cell) const;
+  /// For each cell the robot's body passed through (MesherConfig::driven_cells_first) still refused,
+  /// tries its pocket: the free non-O cells connected to it, at most kMaxPocketCells, in
+  /// breadth-first order from it. Where adding them all would leave a vertex irregular, the
+  /// pocket's cell around that vertex found last is dropped, with the cells then no longer joined to
+  /// O through the pocket, and the rest tried, at most kMaxPocketRounds times. At most
+  /// kMaxPocketAttemptsPerGrow pockets per update.
+  void drivenPocketPass(UpdateStats& stats);
+  bool tryAddPocket(const CellHandle& cell, UpdateStats& stats);
+  /// Keeps the cells of `set` joined, through face-neighbours in `set`, to a cell next to O.
+  void keepJoinedToOutside(std::vector<CellHandle>& set);
   /// Change of V - E + F of dO if all of `set` (none in O, finite, no duplicates) joined O.
   /// Negative: the set closes a loop of O (genus + 1), joins two parts of O or fills a cavity.
   /// O(|set| * edge degree).
@@ -81,6 +92,9 @@ class Grower {
 
   static constexpr std::size_t kMaxBallAttemptsPerGrow = 32;
   static constexpr std::size_t kMaxBallRefusalsRemembered = 1u << 16;
+  static constexpr std::size_t kMaxPocketAttemptsPerGrow = 32;
+  static constexpr std::size_t kMaxPocketCells = 64;
+  static constexpr int kMaxPocketRounds = 32;
 
   MapState& state_;
   std::priority_queue<QueueEntry> queue_;
@@ -91,6 +105,9 @@ class Grower {
   /// Cells the edge pass tried, for the ball pass.
   std::vector<CellHandle> ball_candidates_;
   std::vector<CellHandle> ball_;
+  /// Refused cells the robot's body passed through, for the pocket pass.
+  std::vector<CellHandle> driven_refused_;
+  std::vector<CellHandle> pocket_;
   /// An edge of a cell of the set whose Euler change is computed: its ends (ordered) and where.
   struct SetEdge {
     const Delaunay::Vertex* a;

@@ -117,6 +117,8 @@ std::vector<CellVisibility> Mesher::Impl::cellVisibility() const {
     visibility.weight = static_cast<double>(cell->info().weight) / internal::WeightField::kFixedPointScale;
     visibility.crossings = cell->info().crossings;
     visibility.outside = cell->info().outside();
+    visibility.driven_crossings = cell->info().driven_crossings;
+    visibility.free = state_.isFree(cell);
     cells.push_back(visibility);
   }
   std::sort(cells.begin(), cells.end(), [&less](const CellVisibility& a, const CellVisibility& b) {

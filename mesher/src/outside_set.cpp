@@ -62,15 +62,15 @@ bool OutsideSet::canRemove(CellHandle cell) {
   return true;
 }
 
-bool OutsideSet::canAddAll(const std::vector<CellHandle>& cells) {
-  return pendingChangeKeepsManifold(cells, true);
+bool OutsideSet::canAddAll(const std::vector<CellHandle>& cells, VertexHandle* failed) {
+  return pendingChangeKeepsManifold(cells, true, failed);
 }
 
 bool OutsideSet::canRemoveAll(const std::vector<CellHandle>& cells) {
   return pendingChangeKeepsManifold(cells, false);
 }
 
-bool OutsideSet::pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding) {
+bool OutsideSet::pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding, VertexHandle* failed) {
   for (const CellHandle& c : cells) c->info().flags |= kCellPending;
   auto inside = [adding](const CellHandle& c) {
     const bool pending = (c->info().flags & kCellPending) != 0;
@@ -102,6 +102,7 @@ bool OutsideSet::pendingChangeKeepsManifold(const std::vector<CellHandle>& cells
       const std::size_t members = adding ? before + changed : before - changed;
       if (members == 0) continue;
       ok = start != CellHandle() && test_.isRegular(v, start, members, inside);
+      if (!ok && failed != nullptr) *failed = v;
     }
   }
   for (const CellHandle& c : cells) c->info().flags &= static_cast<std::uint8_t>(~kCellPending);

@@ -26,8 +26,9 @@ class OutsideSet {
   bool canAdd(CellHandle cell);
   /// True if removing `cell` (in O) keeps every boundary vertex regular.
   bool canRemove(CellHandle cell);
-  /// True if adding all `cells` (none in O, all finite) at once keeps the boundary manifold.
-  bool canAddAll(const std::vector<CellHandle>& cells);
+  /// True if adding all `cells` (none in O, all finite) at once keeps the boundary manifold; if
+  /// not, and `failed` is given, a vertex that would not stay regular goes to it.
+  bool canAddAll(const std::vector<CellHandle>& cells, VertexHandle* failed = nullptr);
   /// True if removing all `cells` (all in O) at once keeps the boundary manifold.
   bool canRemoveAll(const std::vector<CellHandle>& cells);
 
@@ -69,7 +70,7 @@ class OutsideSet {
   /// Whether a cell other than `cell` around its edge (vertex i, vertex j) is (or is not) in O.
   bool anyAroundEdge(const CellHandle& cell, int i, int j, bool in_outside) const;
   /// Regularity of every vertex of `cells` when cells flagged kCellPending flip membership.
-  bool pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding);
+  bool pendingChangeKeepsManifold(const std::vector<CellHandle>& cells, bool adding, VertexHandle* failed = nullptr);
   void vertexGainedCell(VertexHandle v);
   void vertexLostCell(VertexHandle v);
   VertexKey computeVertexKey(const VertexHandle& v) const {

@@ -44,6 +44,11 @@ struct CellVisibility {
   std::uint32_t crossings = 0;
   /// Whether the cell is in the outside set O.
   bool outside = false;
+  /// Stored rays to driven-ground samples crossing the cell.
+  std::uint32_t driven_crossings = 0;
+  /// Whether the cell is free space (its weight, with the ground rule of driven-ground samples),
+  /// in O or not.
+  bool free = false;
 };
 
 /// A SLAM point observed but not in the triangulation: fewer than `min_views` keyframes within

@@ -111,6 +111,12 @@ struct MesherConfig {
   /// Ours, not the paper's: before the per-vertex pass, for each cell growing refused, try adding
   /// all free cells around one of its edges at once (docs/algorithms.md, docs/accuracy.md).
   bool edge_growing_pass = true;
+  /// Ours: growing adds the free cells that a ray to a driven-ground sample crosses (the robot's
+  /// body passed there) before all others, by weight among themselves, so that where the manifold
+  /// test must keep one of two free regions out it keeps out the one only sensor rays support; such
+  /// a cell still refused is tried with the free cells joined to it (docs/algorithms.md,
+  /// "Growing"). Changes nothing without driven-ground samples.
+  bool driven_cells_first = true;
   /// The edge pass only tries refused cells at least this heavy (weight units): cells that many
   /// rays cross, which matter most and are few (200: about 20 crossings at the default weights).
   double edge_pass_min_weight = 200.0;
