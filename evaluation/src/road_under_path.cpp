@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <unordered_set>
 
+#include "common/grid_key.h"
+#include "common/plan_frame.h"
 #include "datasets/triangle_bvh.h"
 #include "evaluation/mesh_refinement.h"
 
@@ -125,9 +127,9 @@ void judgeColumns(const traversability::LayeredMesh& map, const mesher::Triangle
                   const RoadUnderPathConfig& config, const GroundTruthTraversability* truth_labels,
                   const datasets::TriangleBvh* truth, RoadUnderPath& out) {
   const Eigen::Vector3d& up = path.up;
-  const Eigen::Vector3d e1 =
-      (std::abs(up.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(up).normalized();
-  const Eigen::Vector3d e2 = up.cross(e1);
+  const geometry::PlanFrame frame = geometry::planFrame(up, geometry::acrossFrameRule());
+  const Eigen::Vector3d& e1 = frame.e1;
+  const Eigen::Vector3d& e2 = frame.e2;
   const double s = config.column_spacing_m;
   const double cell_m2 = s * s;
   const std::unique_ptr<datasets::TriangleBvh> bvh =
@@ -144,7 +146,7 @@ void judgeColumns(const traversability::LayeredMesh& map, const mesher::Triangle
     const auto v0 = static_cast<std::int64_t>(std::floor(lo.y())), v1 = static_cast<std::int64_t>(std::ceil(hi.y()));
     for (std::int64_t u = u0; u <= u1; ++u) {
       for (std::int64_t v = v0; v <= v1; ++v) {
-        if (!seen.insert((static_cast<std::uint64_t>(u) << 32) ^ static_cast<std::uint32_t>(v)).second) continue;
+        if (!seen.insert(geometry::packCell2(u, v)).second) continue;
         // Node centres sit half a cell off the grid lines, so axis-aligned edges split no node.
         const Eigen::Vector3d ground =
             (static_cast<double>(u) + 0.5) * s * e1 + (static_cast<double>(v) + 0.5) * s * e2;
