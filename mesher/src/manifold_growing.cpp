@@ -181,6 +181,10 @@ bool Grower::handleRuleAllows(const std::vector<CellHandle>& set) {
 
 bool Grower::tryAddSet(std::vector<CellHandle>& set, UpdateStats& stats) {
   if (set.size() < 2 || !state_.outside.canAddAll(set)) return false;
+  return addIfHandleRuleAllows(set, stats);
+}
+
+bool Grower::addIfHandleRuleAllows(std::vector<CellHandle>& set, UpdateStats& stats) {
   if (!handleRuleAllows(set)) return false;
   for (const CellHandle& h : set) {
     state_.outside.add(h);
@@ -359,7 +363,7 @@ bool Grower::tryAddPocket(const CellHandle& cell, UpdateStats& stats) {
   }
   for (int round = 0; round < kMaxPocketRounds && pocket.size() >= 2; ++round) {
     VertexHandle failed;
-    if (state_.outside.canAddAll(pocket, &failed)) return tryAddSet(pocket, stats);
+    if (state_.outside.canAddAll(pocket, &failed)) return addIfHandleRuleAllows(pocket, stats);
     if (failed == VertexHandle()) return false;
     // The cell around the failed vertex found last (farthest from `cell`) goes first.
     const auto last = std::find_if(pocket.rbegin(), pocket.rend(),

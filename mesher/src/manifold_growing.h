@@ -62,6 +62,8 @@ class Grower {
   /// Adds all of `set` (at least two cells, none in O) if that keeps the boundary manifold, then
   /// resumes growing from them. Returns whether it did.
   bool tryAddSet(std::vector<CellHandle>& set, UpdateStats& stats);
+  /// The second half of tryAddSet, for a set that passed the manifold test.
+  bool addIfHandleRuleAllows(std::vector<CellHandle>& set, UpdateStats& stats);
   /// Tries `cell` together with one free face-neighbour, then with every free non-O cell sharing a
   /// vertex with it (its ball).
   bool tryAddBall(const CellHandle& cell, UpdateStats& stats);
