@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <utility>
 
 #include "surface_store.h"
 
@@ -60,5 +61,27 @@ inline Eigen::Vector2d closestPoint(const Eigen::Vector2d& q, const Projection& 
 
 /// Horizontal distance from q to a projected face (0 inside it).
 inline double distanceToTriangle(const Eigen::Vector2d& q, const Projection& t) { return (closestPoint(q, t) - q).norm(); }
+
+/// Whether two projected faces overlap by more than `tolerance_m` across every edge direction
+/// (separating axes): faces that only touch, at a shared vertex or edge, do not.
+inline bool projectionsOverlap(const Projection& a, const Projection& b, double tolerance_m) {
+  for (const auto& [edges, other] : {std::pair(&a, &b), std::pair(&b, &a)}) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      const Eigen::Vector2d e = edges->p[(i + 1) % 3] - edges->p[i];
+      const double length = e.norm();
+      if (!(length > 0)) continue;
+      const Eigen::Vector2d axis = Eigen::Vector2d(-e.y(), e.x()) / length;
+      double lo_a = axis.dot(edges->p[0]), hi_a = lo_a, lo_b = axis.dot(other->p[0]), hi_b = lo_b;
+      for (std::size_t j = 1; j < 3; ++j) {
+        lo_a = std::min(lo_a, axis.dot(edges->p[j]));
+        hi_a = std::max(hi_a, axis.dot(edges->p[j]));
+        lo_b = std::min(lo_b, axis.dot(other->p[j]));
+        hi_b = std::max(hi_b, axis.dot(other->p[j]));
+      }
+      if (hi_a <= lo_b + tolerance_m || hi_b <= lo_a + tolerance_m) return false;
+    }
+  }
+  return true;
+}
 
 }  // namespace terramesh::traversability::internal

@@ -106,6 +106,25 @@ class LayerComputer {
     const double depth = lidDepthM(f);
     return f.max_z - f.min_z <= profile_.max_step_m && depth > profile_.max_step_m ? depth : 0.0;
   }
+  /// How deep the free space under a fold may reach under the faces at its vertices that lie over
+  /// it and that it hangs below (setEvidence). A fold is a face facing down (its normal more than
+  /// 30 degrees below horizontal), dropping more than three sigmas of the points' noise from its
+  /// top vertex, that rays crossed under (the cell in front of it) but no keyframe saw from below
+  /// (no view on its front side: an underside seen from below, a deck's or a car's, has matter
+  /// over it that was seen from both sides). Where it hangs from ground, rays from above reached
+  /// under that ground: the ground over it is a crust over free space whose depth nothing
+  /// measured, so the worst case takes it as deep as a footprint sample looks for ground
+  /// (band_down_m_), or deeper if the fold shows it. 0 for any other face.
+  double foldVoidM(const StoredFace& f) const {
+    const double drop = f.max_z - f.min_z;
+    const bool fold = !f.steiner && f.front_crossings > 0 && f.normal_L.z() < kMaxFoldNormalZ &&
+                      (f.view_sides & mesher::view_side::kFront) == 0 &&
+                      drop > 3.0 * profile_.evidence.point_noise_m;
+    return fold ? std::max(drop, band_down_m_) : 0.0;
+  }
+  /// What a face shows of a void under the faces around its vertices (rimVoidM, foldVoidM):
+  /// TraversabilityMap sets their evidence again when it changes.
+  double vertexVoidM(const StoredFace& f) const { return std::max(rimVoidM(f), foldVoidM(f)); }
 
   /// Whether setEvidence reads the face's edge neighbours: a measured, not driven, gentle face
   /// rising more than max_step_m (whose rise they may confirm).
@@ -164,6 +183,9 @@ class LayerComputer {
 
   /// Faces whose normal has a smaller upward component are not ground (walls, ceilings).
   static constexpr double kMinGroundNormalZ = 1e-6;
+  /// A face whose normal's up component is below this (more than 30 degrees below horizontal)
+  /// faces down (foldVoidM).
+  static constexpr double kMaxFoldNormalZ = -0.5;
   /// A face above the centroid closer than this is the face's own neighbourhood, not a ceiling.
   static constexpr double kMinClearanceGapM = 1e-4;
   /// Slices of projected triangles are widened by this much: far more than rounding, far less than

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "face_projection.h"
 #include "layer_computer.h"
 #include "traversability/layer_registry.h"
 
@@ -12,6 +13,9 @@ namespace {
 
 /// Steep faces up to this angle (vertical risers, slightly overhanging ones) may be step risers.
 constexpr double kMaxRiserSlopeDeg = 95.0;
+/// A face lies over a fold when their projections overlap by more than this (far more than
+/// rounding; faces sharing a vertex or an edge touch).
+constexpr double kFoldOverlapM = 1e-6;
 
 double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
 
@@ -49,8 +53,17 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
     relief = g.span_m * (observed ? m.relief_per_m_observed : m.relief_per_m_unobserved);
     relief = std::max(relief, lidDepthM(f));
     // The void under a lid spanning a rim ends somewhere between the rim points and the ground
-    // points beyond them: it may reach under every face around the lid's vertices as deep.
-    store.forEachVertexNeighbour(s, [&](Slot t) { relief = std::max(relief, rimVoidM(store.face(t))); });
+    // points beyond them: it may reach under every face around the lid's vertices as deep. The
+    // free space under a fold hanging from one of the face's vertices reaches under the face where
+    // the face lies over it (a crust over that space).
+    store.forEachVertexNeighbour(s, [&](Slot t) {
+      const StoredFace& around = store.face(t);
+      relief = std::max(relief, rimVoidM(around));
+      if (around.max_z <= f.max_z + m.point_noise_m && foldVoidM(around) > 0 &&
+          projectionsOverlap(projectionOf(f), projectionOf(around), kFoldOverlapM)) {
+        relief = std::max(relief, foldVoidM(around));
+      }
+    });
     // A possible step (uncertain): its step may stand anywhere between its vertices.
     const double rise = f.max_z - f.min_z;
     if (rise > profile_.max_step_m && f.normal_L.z() >= cos_max_slope_ &&

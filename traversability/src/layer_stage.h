@@ -47,9 +47,9 @@ struct StageChanges {
   std::vector<Slot> added;            ///< faces added
   std::vector<Slot> recounted;        ///< faces kept whose observation counts changed
   std::vector<Slot> edge_neighbours;  ///< of the faces added and removed (repeats and dead ones possible)
-  /// Faces sharing a vertex with a face whose rim void (LayerComputer::rimVoidM) changed: such a
-  /// lid added or removed, or a face kept whose counts made it one or changed its depth (repeats
-  /// and dead ones possible).
+  /// Faces sharing a vertex with a face whose void (LayerComputer::vertexVoidM: a lid's over a
+  /// rim, a fold's) changed: such a face added or removed, or a face kept whose counts made it one
+  /// or changed its depth (repeats and dead ones possible).
   std::vector<Slot> lid_neighbours;
   /// Faces added and removed (as they were), and faces whose evidence changed: where footprints
   /// that may stand on, meet or sit under them are.

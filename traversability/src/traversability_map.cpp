@@ -180,7 +180,7 @@ class TraversabilityMap::Impl {
       store_.neighbours(*slot, scratch_neighbours_);
       changes_.edge_neighbours.insert(changes_.edge_neighbours.end(), scratch_neighbours_.begin(),
                                       scratch_neighbours_.end());
-      if (computer_.rimVoidM(store_.face(*slot)) > 0) addLidNeighbours(*slot);
+      if (computer_.vertexVoidM(store_.face(*slot)) > 0) addLidNeighbours(*slot);
       pipeline_.removing(store_, *slot, changes_);
       store_.removeSlot(*slot);
       return true;
@@ -191,7 +191,7 @@ class TraversabilityMap::Impl {
           f.back_crossings == face.back_crossings && f.back_depth_W == face.back_depth) {
         return;
       }
-      const double rim_void = computer_.rimVoidM(f);
+      const double vertex_void = computer_.vertexVoidM(f);
       f.rays = face.rays;
       f.layers.rays = face.rays;
       f.front_crossings = face.front_crossings;
@@ -200,7 +200,7 @@ class TraversabilityMap::Impl {
       f.back_depth_W = face.back_depth;
       f.back_depth_m = face.back_depth * frame_.metres_per_unit;
       changes_.recounted.push_back(s);
-      if (computer_.rimVoidM(f) != rim_void) addLidNeighbours(s);
+      if (computer_.vertexVoidM(f) != vertex_void) addLidNeighbours(s);
     };
     // Churn: a face removed and re-added with the same vertices and positions changes nothing
     // but (maybe) its observation counts.
@@ -234,14 +234,15 @@ class TraversabilityMap::Impl {
       store_.neighbours(s, scratch_neighbours_);
       changes_.edge_neighbours.insert(changes_.edge_neighbours.end(), scratch_neighbours_.begin(),
                                       scratch_neighbours_.end());
-      if (computer_.rimVoidM(store_.face(s)) > 0) addLidNeighbours(s);
+      if (computer_.vertexVoidM(store_.face(s)) > 0) addLidNeighbours(s);
     }
     for (const mesher::SurfaceFace& face : around) {
       if (const std::optional<Slot> s = store_.find(face.key)) recount(*s, face);
     }
   }
 
-  /// The faces around the vertices of lid s read its rim void (changes_.lid_neighbours).
+  /// The faces around the vertices of s read the void it shows (LayerComputer::vertexVoidM;
+  /// changes_.lid_neighbours).
   void addLidNeighbours(Slot s) {
     store_.forEachVertexNeighbour(s, [&](Slot t) { changes_.lid_neighbours.push_back(t); });
   }
