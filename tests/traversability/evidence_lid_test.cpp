@@ -157,104 +157,116 @@ TEST(EvidenceTest, TheVoidUnderALidMayReachUnderTheFacesAroundIt) {
   }
 }
 
-TEST(EvidenceTest, GroundOverAFoldRaysCrossedUnderIsNotFree) {
-  // A floor at 0 meshed from points 1.5 m apart, and a measured face hanging from its vertex at
-  // the origin, facing down: a point 0.3 m below the floor, seen by rays that crossed the space
-  // under the floor (a pit's wall, or the mesh spanning a pit's corner at the rim's height). The
-  // faces over the fold are a crust over free space whose depth nothing measured: each is
-  // uncertain (a possible drop deeper than the 0.18 m step), not free; the other faces at its
-  // vertex do not take that depth. Faces no footprint of theirs reaches stay free. A fold no ray
-  // crossed, one within the points' noise, or one a keyframe saw from below (an underside: a
-  // deck, whose matter was seen from both sides) changes nothing.
-  const RobotProfile profile = smallWheeled();
-  const double r = profile.footprintCircumradiusM();
-  mesher::TriangleMesh mesh = test::heightFieldMesh(-6, 6, -6, 6, 1.5, [](double, double) { return 0.0; });
-  const std::size_t floor_faces = mesh.faces.size();
+/// A floor at 0 meshed from points 1.5 m apart, and a face hanging from its vertex at the origin
+/// (the hinge), facing down, to two points `drop` below the floor at x = 1 (y = +-0.4): the last
+/// of `faces`, with `crossings` rays through the cell under it and the keyframes' `view_sides`.
+struct FoldedFloor {
+  mesher::TriangleMesh floor = test::heightFieldMesh(-6, 6, -6, 6, 1.5, [](double, double) { return 0.0; });
   std::uint32_t hinge = 0;
-  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
-    if (mesh.vertices[v].norm() < mesh.vertices[hinge].norm()) hinge = v;
+
+  FoldedFloor() {
+    for (std::uint32_t v = 0; v < floor.vertices.size(); ++v) {
+      if (floor.vertices[v].norm() < floor.vertices[hinge].norm()) hinge = v;
+    }
   }
-  ASSERT_LT(mesh.vertices[hinge].norm(), 1e-9);
-  const auto withFold = [&](double drop, std::uint32_t crossings, std::uint8_t view_sides) {
-    mesher::TriangleMesh folded = mesh;
+  std::vector<mesher::SurfaceFace> faces(double drop, std::uint32_t crossings, std::uint8_t view_sides) const {
+    mesher::TriangleMesh folded = floor;
     const auto low = static_cast<std::uint32_t>(folded.vertices.size());
     folded.vertices.emplace_back(1.0, 0.4, -drop);
     folded.vertices.emplace_back(1.0, -0.4, -drop);
     folded.faces.push_back({hinge, low, low + 1});  // wound to face down
-    std::vector<mesher::SurfaceFace> faces = facesOf(folded, 4);
-    faces.back().front_crossings = crossings;
-    faces.back().view_sides = view_sides;
-    return layersOf(faces, profile);
-  };
-  const auto around = [&](std::size_t f) {
-    const auto& t = mesh.faces[f];
+    std::vector<mesher::SurfaceFace> out = facesOf(folded, 4);
+    out.back().front_crossings = crossings;
+    out.back().view_sides = view_sides;
+    return out;
+  }
+  /// Whether floor face f has the hinge as a vertex.
+  bool atHinge(std::size_t f) const {
+    const auto& t = floor.faces[f];
     return t[0] == hinge || t[1] == hinge || t[2] == hinge;
-  };
-  // Over the fold: the face holds a point of the fold's inside (the triangle (0,0), (1,+-0.4)).
-  const auto over = [&](std::size_t f) {
+  }
+  /// Whether floor face f lies over the fold: it holds a point of the fold's inside.
+  bool overFold(std::size_t f) const {
     for (const Eigen::Vector2d p : {Eigen::Vector2d(0.7, 0.05), Eigen::Vector2d(0.7, -0.05)}) {
-      if (distanceToFace(mesh, f, p) == 0.0) return true;
+      if (distanceToFace(floor, f, p) == 0.0) return true;
     }
     return false;
-  };
-  const std::vector<FaceLayers> layers = withFold(0.3, 4, mesher::view_side::kBehind);
+  }
+};
+
+TEST(EvidenceTest, GroundOverAFoldRaysCrossedUnderIsNotFree) {
+  // The fold hangs 0.3 m below the floor and rays crossed the space under it, seen only from
+  // above (a pit's wall, or the mesh spanning a pit's corner at the rim's height). The faces at
+  // its vertex over it are a crust over free space whose depth nothing measured: uncertain (a
+  // possible drop deeper than the 0.18 m step), not free; the other faces at its vertex do not
+  // take that depth. Faces no footprint of theirs reaches stay free.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const FoldedFloor scene;
+  ASSERT_LT(scene.floor.vertices[scene.hinge].norm(), 1e-9);
+  const std::vector<FaceLayers> layers = layersOf(scene.faces(0.3, 4, mesher::view_side::kBehind), profile);
   ASSERT_GT(layers.back().slope_deg, 150.0f) << "the fold must face down";
+  const std::size_t floor_faces = scene.floor.faces.size();
   std::size_t crust = 0, beside = 0, far = 0;
   for (std::size_t f = 0; f < floor_faces; ++f) {
-    const Eigen::Vector2d c = centroid(mesh, f).head<2>();
-    if (around(f) && over(f)) {
+    const Eigen::Vector2d c = centroid(scene.floor, f).head<2>();
+    if (scene.atHinge(f) && scene.overFold(f)) {
       ++crust;
       EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "at " << c.transpose();
       EXPECT_TRUE(layers[f].reasons & reason::kWorstCaseRelief) << layers[f].reasons;
       EXPECT_GE(layers[f].height_uncertainty_m, 0.3f) << "at " << c.transpose();
       EXPECT_EQ(layers[f].evidence, Evidence::kMeasured) << "at " << c.transpose();
-      continue;
-    }
-    if (around(f)) {
+    } else if (scene.atHinge(f)) {
       ++beside;
       EXPECT_LT(layers[f].height_uncertainty_m, 0.1f) << "at " << c.transpose();
-      continue;
+    } else if (std::max(std::abs(c.x()), std::abs(c.y())) <= 4.5) {  // away from the map's edge
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t g = 0; g < floor_faces; ++g) {
+        if (scene.atHinge(g) && scene.overFold(g)) nearest = std::min(nearest, distanceToFace(scene.floor, g, c));
+      }
+      if (nearest <= r + 0.05) continue;
+      ++far;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at " << c.transpose();
     }
-    if (std::max(std::abs(c.x()), std::abs(c.y())) > 4.5) continue;  // near the map's edge
-    double nearest = std::numeric_limits<double>::infinity();
-    for (std::size_t g = 0; g < floor_faces; ++g) {
-      if (around(g) && over(g)) nearest = std::min(nearest, distanceToFace(mesh, g, c));
-    }
-    if (nearest <= r + 0.05) continue;
-    ++far;
-    EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at " << c.transpose();
   }
   EXPECT_GE(crust, 1u);
   EXPECT_GE(beside, 4u);
   EXPECT_GT(far, 10u);
-  // No ray crossed the space under it, it drops within the points' noise, or a keyframe saw it
-  // from below: no fold of free space. The faces around the hinge are as free as the rest.
+}
+
+TEST(EvidenceTest, NoFoldWithoutRaysUnderItFromAbove) {
+  // No ray crossed the space under the face, it drops within the points' noise (0.05 m, 3 cm
+  // noise), or a keyframe saw it from below (an underside: a deck's, whose matter was seen from
+  // both sides): no fold of free space. The faces at its vertex are as free as the rest.
+  const RobotProfile profile = smallWheeled();
+  const FoldedFloor scene;
   const std::uint8_t both = mesher::view_side::kFront | mesher::view_side::kBehind;
   for (const auto& [drop, crossings, sides] : {std::tuple<double, std::uint32_t, std::uint8_t>{0.3, 0, 0},
                                                {0.05, 4, 0}, {0.3, 4, mesher::view_side::kFront}, {0.3, 4, both}}) {
-    const std::vector<FaceLayers> plain = withFold(drop, crossings, sides);
-    for (std::size_t f = 0; f < floor_faces; ++f) {
-      if (!around(f)) continue;
-      EXPECT_EQ(plain[f].face_class, FaceClass::kFree)
+    const std::vector<FaceLayers> layers = layersOf(scene.faces(drop, crossings, sides), profile);
+    std::size_t checked = 0;
+    for (std::size_t f = 0; f < scene.floor.faces.size(); ++f) {
+      if (!scene.atHinge(f)) continue;
+      ++checked;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kFree)
           << "drop " << drop << ", crossings " << crossings << ", views " << int(sides);
-      EXPECT_LT(plain[f].height_uncertainty_m, 0.1f);
+      EXPECT_LT(layers[f].height_uncertainty_m, 0.1f);
     }
+    EXPECT_GE(checked, 6u);
   }
-  // Kept current: rays come to cross under the fold (its counts re-read), a keyframe sees it from
-  // below and no longer does, then it goes; each state as a full computation of it.
-  mesher::TriangleMesh folded = mesh;
-  const auto low = static_cast<std::uint32_t>(folded.vertices.size());
-  folded.vertices.emplace_back(1.0, 0.4, -0.3);
-  folded.vertices.emplace_back(1.0, -0.4, -0.3);
-  folded.faces.push_back({hinge, low, low + 1});
-  std::vector<mesher::SurfaceFace> faces = facesOf(folded, 4);
+}
+
+TEST(EvidenceTest, AFoldKeptCurrentEqualsFullRecomputation) {
+  // Rays come to cross under the fold (its counts re-read), a keyframe sees it from below and no
+  // longer does, then it goes: each state as a full computation of it.
+  const RobotProfile profile = smallWheeled();
+  const FoldedFloor scene;
+  std::vector<mesher::SurfaceFace> faces = scene.faces(0.3, 0, 0);
   mesher::SurfaceFace fold = faces.back();
-  fold.front_crossings = 0;
-  faces.back() = fold;
   TraversabilityMap map(profile, MapFrame{});
   map.reset(faces);
-  const auto expectAsFull = [&](const std::vector<mesher::SurfaceFace>& now, const char* what) {
-    const std::map<mesher::FaceKey, FaceLayers> full = layersByKey(now, profile);
+  const auto expectAsFull = [&](const char* what) {
+    const std::map<mesher::FaceKey, FaceLayers> full = layersByKey(faces, profile);
     const std::map<mesher::FaceKey, FaceLayers> kept = layersByKey(map);
     ASSERT_EQ(kept.size(), full.size()) << what;
     for (const auto& [key, layers] : full) {
@@ -266,21 +278,19 @@ TEST(EvidenceTest, GroundOverAFoldRaysCrossedUnderIsNotFree) {
       }
     }
   };
-  fold.front_crossings = 4;
-  faces.back() = fold;
-  map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {fold});
-  expectAsFull(faces, "after rays crossed under the fold");
-  fold.view_sides = mesher::view_side::kFront;
-  faces.back() = fold;
-  map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {fold});
-  expectAsFull(faces, "after a keyframe saw the fold from below");
-  fold.view_sides = 0;
-  faces.back() = fold;
-  map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {fold});
-  expectAsFull(faces, "after the view from below was gone");
+  const auto recount = [&](std::uint32_t crossings, std::uint8_t view_sides, const char* what) {
+    fold.front_crossings = crossings;
+    fold.view_sides = view_sides;
+    faces.back() = fold;
+    map.apply(mesher::SurfaceDelta{0, 0, true, {}, {}, {}}, {fold});
+    expectAsFull(what);
+  };
+  recount(4, 0, "after rays crossed under the fold");
+  recount(4, mesher::view_side::kFront, "after a keyframe saw the fold from below");
+  recount(4, 0, "after the view from below was gone");
   faces.pop_back();
   map.apply(mesher::SurfaceDelta{0, 0, true, {fold.key}, {}, {}}, {});
-  expectAsFull(faces, "after the fold went");
+  expectAsFull("after the fold went");
 }
 
 TEST(EvidenceTest, AWallWithRaysBehindItIsUncertainNotLethal) {
