@@ -4,7 +4,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
-#include <utility>
+#include <limits>
+#include <tuple>
 
 #include "surface_store.h"
 
@@ -62,26 +63,30 @@ inline Eigen::Vector2d closestPoint(const Eigen::Vector2d& q, const Projection& 
 /// Horizontal distance from q to a projected face (0 inside it).
 inline double distanceToTriangle(const Eigen::Vector2d& q, const Projection& t) { return (closestPoint(q, t) - q).norm(); }
 
-/// Whether two projected faces overlap by more than `tolerance_m` across every edge direction
-/// (separating axes): faces that only touch, at a shared vertex or edge, do not.
-inline bool projectionsOverlap(const Projection& a, const Projection& b, double tolerance_m) {
-  for (const auto& [edges, other] : {std::pair(&a, &b), std::pair(&b, &a)}) {
-    for (std::size_t i = 0; i < 3; ++i) {
-      const Eigen::Vector2d e = edges->p[(i + 1) % 3] - edges->p[i];
-      const double length = e.norm();
-      if (!(length > 0)) continue;
-      const Eigen::Vector2d axis = Eigen::Vector2d(-e.y(), e.x()) / length;
-      double lo_a = axis.dot(edges->p[0]), hi_a = lo_a, lo_b = axis.dot(other->p[0]), hi_b = lo_b;
-      for (std::size_t j = 1; j < 3; ++j) {
-        lo_a = std::min(lo_a, axis.dot(edges->p[j]));
-        hi_a = std::max(hi_a, axis.dot(edges->p[j]));
-        lo_b = std::min(lo_b, axis.dot(other->p[j]));
-        hi_b = std::max(hi_b, axis.dot(other->p[j]));
-      }
-      if (hi_a <= lo_b + tolerance_m || hi_b <= lo_a + tolerance_m) return false;
+/// The separating-axis test of convex polygons a (na points) and b (nb points; either may be a
+/// segment or a point): the widest gap between them along the normals of their edges (m; <= 0:
+/// they overlap or touch along every one, by -gap at least), -infinity when neither has an edge.
+inline double separatingGap(const Eigen::Vector2d* a, int na, const Eigen::Vector2d* b, int nb) {
+  double gap = -std::numeric_limits<double>::infinity();
+  for (const auto& [p, n, q, m] : {std::tuple(a, na, b, nb), std::tuple(b, nb, a, na)}) {
+    for (int i = 0; i < n && n >= 2; ++i) {
+      const Eigen::Vector2d e = p[(i + 1) % n] - p[i];
+      if (!(e.squaredNorm() > 0)) continue;
+      const Eigen::Vector2d axis(-e.y(), e.x());
+      double lo_p = std::numeric_limits<double>::infinity(), hi_p = -lo_p, lo_q = lo_p, hi_q = -lo_p;
+      for (int j = 0; j < n; ++j) lo_p = std::min(lo_p, axis.dot(p[j])), hi_p = std::max(hi_p, axis.dot(p[j]));
+      for (int j = 0; j < m; ++j) lo_q = std::min(lo_q, axis.dot(q[j])), hi_q = std::max(hi_q, axis.dot(q[j]));
+      gap = std::max(gap, std::max(lo_q - hi_p, lo_p - hi_q) / axis.norm());
     }
   }
-  return true;
+  return gap;
+}
+
+/// Whether two projected faces overlap by more than `tolerance_m` across every edge direction:
+/// faces that only touch, at a shared vertex or edge, do not.
+inline bool projectionsOverlap(const Projection& a, const Projection& b, double tolerance_m) {
+  const double gap = separatingGap(a.p.data(), 3, b.p.data(), 3);
+  return gap > -std::numeric_limits<double>::infinity() && gap < -tolerance_m;
 }
 
 }  // namespace terramesh::traversability::internal

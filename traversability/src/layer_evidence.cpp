@@ -59,9 +59,10 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
     store.forEachVertexNeighbour(s, [&](Slot t) {
       const StoredFace& around = store.face(t);
       relief = std::max(relief, rimVoidM(around));
-      if (around.max_z <= f.max_z + m.point_noise_m && foldVoidM(around) > 0 &&
+      const double fold = foldVoidM(around);
+      if (fold > relief && around.max_z <= f.max_z + m.point_noise_m &&
           projectionsOverlap(projectionOf(f), projectionOf(around), kFoldOverlapM)) {
-        relief = std::max(relief, foldVoidM(around));
+        relief = fold;
       }
     });
     // A possible step (uncertain): its step may stand anywhere between its vertices.

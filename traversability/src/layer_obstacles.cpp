@@ -45,21 +45,9 @@ int clipToHalfPlane(const Eigen::Vector2d* in, int n, const Eigen::Vector2d& nor
 /// Whether convex polygons a (na points) and b (nb points; either may be a segment or a point)
 /// come within d of each other (touching counts).
 bool withinDistance(const Eigen::Vector2d* a, int na, const Eigen::Vector2d* b, int nb, double d) {
-  // Overlap: no edge normal of either separates them.
-  bool tested = false, separated = false;
-  for (const auto& [p, n, q, m] : {std::tuple(a, na, b, nb), std::tuple(b, nb, a, na)}) {
-    for (int i = 0; i < n && !separated && n >= 2; ++i) {
-      const Eigen::Vector2d e = p[(i + 1) % n] - p[i];
-      if (!(e.squaredNorm() > 0)) continue;
-      const Eigen::Vector2d axis(-e.y(), e.x());
-      double lo_p = std::numeric_limits<double>::infinity(), hi_p = -lo_p, lo_q = lo_p, hi_q = -lo_p;
-      for (int j = 0; j < n; ++j) lo_p = std::min(lo_p, axis.dot(p[j])), hi_p = std::max(hi_p, axis.dot(p[j]));
-      for (int j = 0; j < m; ++j) lo_q = std::min(lo_q, axis.dot(q[j])), hi_q = std::max(hi_q, axis.dot(q[j]));
-      tested = true;
-      separated = hi_p < lo_q || hi_q < lo_p;
-    }
-  }
-  if (tested && !separated) return true;
+  // Overlap: no edge normal of either separates them (touching counts).
+  const double gap = separatingGap(a, na, b, nb);
+  if (gap > -std::numeric_limits<double>::infinity() && !(gap > 0)) return true;
   // Apart: the nearest points are a vertex of one and an edge (or the point) of the other.
   for (const auto& [p, n, q, m] : {std::tuple(a, na, b, nb), std::tuple(b, nb, a, na)}) {
     for (int i = 0; i < n; ++i) {
