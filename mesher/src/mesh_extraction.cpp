@@ -29,13 +29,13 @@ void canonicalize(TriangleMesh& mesh) {
   TriangleMesh sorted;
   sorted.vertices.reserve(order.size());
   sorted.is_steiner.reserve(order.size());
-  sorted.is_driven.reserve(order.size());
+  sorted.driven_kind.reserve(order.size());
   sorted.vertex_keys.reserve(order.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     rank[order[i]] = i;
     sorted.vertices.push_back(mesh.vertices[order[i]]);
     sorted.is_steiner.push_back(mesh.is_steiner[order[i]]);
-    sorted.is_driven.push_back(mesh.is_driven[order[i]]);
+    sorted.driven_kind.push_back(mesh.driven_kind[order[i]]);
     sorted.vertex_keys.push_back(mesh.vertex_keys[order[i]]);
   }
   // Faces sorted (each starting at its smallest index), with their observations.
@@ -71,8 +71,8 @@ TriangleMesh Mesher::Impl::extractMesh() const {
       mesh.vertices.push_back(internal::toEigen(v->point()));
       mesh.is_steiner.push_back(v->info().steiner ? 1 : 0);
       const std::uint32_t point = v->info().point;
-      mesh.is_driven.push_back(
-          point != internal::kNone && state_.registry.point(point).kind == PointKind::kDrivenGround ? 1 : 0);
+      mesh.driven_kind.push_back(
+          point != internal::kNone ? static_cast<std::uint8_t>(state_.registry.point(point).kind) : 0);
       mesh.vertex_keys.push_back(state_.outside.vertexKey(v));
     }
     return it->second;

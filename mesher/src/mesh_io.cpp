@@ -72,8 +72,16 @@ TriangleMesh readPly(const std::filesystem::path& path) {
       for (std::size_t i = 0; i < vertices->count; ++i) mesh.is_steiner[i] = steiner->values[i] != 0;
     }
     if (const ply::Property* driven = vertices->find("driven"); driven && !driven->isList()) {
-      mesh.is_driven.resize(vertices->count);
-      for (std::size_t i = 0; i < vertices->count; ++i) mesh.is_driven[i] = driven->values[i] != 0;
+      mesh.driven_kind.resize(vertices->count);
+      for (std::size_t i = 0; i < vertices->count; ++i) {
+        const double kind = driven->values[i];
+        if (kind != 0 && kind != 1 && kind != 2) {
+          std::ostringstream problem;
+          problem << "driven " << kind << " (expected 0, 1 driven ground or 2 its underside)";
+          throw InputError(file, "vertex " + std::to_string(i), problem.str());
+        }
+        mesh.driven_kind[i] = static_cast<std::uint8_t>(kind);
+      }
     }
   }
   if (const ply::Element* faces = document.find("face")) {
@@ -219,12 +227,13 @@ void writePly(const std::filesystem::path& path, const TriangleMesh& mesh, const
   }
   // Written only when some vertex is driven, so that meshes without trajectory evidence keep
   // the file layout (and bytes) they always had.
-  const bool have_driven = mesh.is_driven.size() == mesh.vertices.size() &&
-                           std::find(mesh.is_driven.begin(), mesh.is_driven.end(), 1) != mesh.is_driven.end();
+  const bool have_driven =
+      mesh.driven_kind.size() == mesh.vertices.size() &&
+      std::any_of(mesh.driven_kind.begin(), mesh.driven_kind.end(), [](std::uint8_t kind) { return kind != 0; });
   if (have_driven) {
     ply::Property& driven = vertices.addScalar("driven", ply::Type::kUInt8);
     driven.values.reserve(mesh.vertices.size());
-    for (std::uint8_t flag : mesh.is_driven) driven.values.push_back(flag ? 1 : 0);
+    for (std::uint8_t kind : mesh.driven_kind) driven.values.push_back(kind);
   }
   ply::Element& faces = document.addElement("face", mesh.faces.size());
   ply::Property& indices = faces.addList("vertex_indices", ply::Type::kUInt8, ply::Type::kUInt32);

@@ -45,6 +45,7 @@ SurfaceFace Mesher::Impl::makeFace(const CellHandle& front, int facet) const {
       const internal::PointRecord& point = state_.registry.point(v->info().point);
       face.rays += static_cast<std::uint32_t>(point.rays.size());
       face.driven_vertices += point.kind == PointKind::kDrivenGround ? 1 : 0;
+      face.underside_vertices += point.kind == PointKind::kDrivenUnderside ? 1 : 0;
     }
   }
   face.key = FaceKey::of(keys[0], keys[1], keys[2]);

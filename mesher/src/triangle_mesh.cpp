@@ -116,7 +116,7 @@ TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<std::uint8_
   }
   const bool steiner = mesh.is_steiner.size() == mesh.vertices.size();
   const bool keyed = mesh.vertex_keys.size() == mesh.vertices.size();
-  const bool driven = mesh.is_driven.size() == mesh.vertices.size();
+  const bool driven = mesh.driven_kind.size() == mesh.vertices.size();
   const bool observed = mesh.face_rays.size() == mesh.faces.size() && mesh.face_front_crossings.size() == mesh.faces.size();
   const bool sided = mesh.face_view_sides.size() == mesh.faces.size();
   const bool behind = mesh.face_back_crossings.size() == mesh.faces.size() && mesh.face_back_depth.size() == mesh.faces.size();
@@ -133,7 +133,7 @@ TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<std::uint8_
         result.vertices.push_back(mesh.vertices[face[k]]);
         if (steiner) result.is_steiner.push_back(mesh.is_steiner[face[k]]);
         if (keyed) result.vertex_keys.push_back(mesh.vertex_keys[face[k]]);
-        if (driven) result.is_driven.push_back(mesh.is_driven[face[k]]);
+        if (driven) result.driven_kind.push_back(mesh.driven_kind[face[k]]);
       }
       mapped[k] = index;
     }

@@ -10,6 +10,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "common/input_error.h"
 #include "mesher/checkpoint.h"
 #include "mesher/mesh_io.h"
 #include "mesher/mesher.h"
@@ -90,10 +91,10 @@ TEST(DrivenGroundTest, FacesCountTheirDrivenVerticesAndTheMeshFlagsThem) {
   }
   EXPECT_GT(driven_faces, 20u);
   const TriangleMesh mesh = mesher.extractMesh();
-  ASSERT_EQ(mesh.is_driven.size(), mesh.vertices.size());
+  ASSERT_EQ(mesh.driven_kind.size(), mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
     const bool driven = !mesh.vertex_keys[v].steiner && (mesh.vertex_keys[v].value & kDrivenBit) != 0;
-    EXPECT_EQ(mesh.is_driven[v] != 0, driven);
+    EXPECT_EQ(mesh.driven_kind[v] != 0, driven);
     if (driven) EXPECT_NEAR(mesh.vertices[v].z(), 0.0, 1e-12);
   }
 }
@@ -147,7 +148,7 @@ TEST(DrivenGroundTest, CheckpointKeepsTheKind) {
   saveCheckpoint(mesher, bytes, "");
   LoadedCheckpoint loaded = loadCheckpoint(bytes, "memory");
   Mesher& resumed = loaded.mesher;
-  EXPECT_EQ(resumed.extractMesh().is_driven, mesher.extractMesh().is_driven);
+  EXPECT_EQ(resumed.extractMesh().driven_kind, mesher.extractMesh().driven_kind);
   // The kind came back: re-observing a sample as a SLAM point is still refused.
   Keyframe wrong = keyframes[16];
   wrong.observations.push_back({sampleId(keyframes[3].id.value, 1), Eigen::Vector3d(0, 0, 0), PointKind::kSlam});
@@ -162,7 +163,7 @@ TEST(DrivenGroundTest, CheckpointKeepsTheKind) {
   const TriangleMesh actual = resumed.extractMesh();
   EXPECT_EQ(actual.vertices, expected.vertices);
   EXPECT_EQ(actual.faces, expected.faces);
-  EXPECT_EQ(actual.is_driven, expected.is_driven);
+  EXPECT_EQ(actual.driven_kind, expected.driven_kind);
   std::vector<std::uint8_t> counts_a, counts_b;
   for (const SurfaceFace& face : mesher.surfaceFaces()) counts_a.push_back(face.driven_vertices);
   for (const SurfaceFace& face : resumed.surfaceFaces()) counts_b.push_back(face.driven_vertices);
@@ -232,23 +233,39 @@ TEST(DrivenGroundTest, PlyWritesTheDrivenFlagOnlyWhenSomeVertexIsDrivenAndReadsI
   mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   mesh.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   mesh.is_steiner = {0, 0, 1, 0};
-  mesh.is_driven = {1, 0, 0, 1};
+  mesh.driven_kind = {1, 0, 0, 2};  // a driven-ground sample and the underside under one
   writePly(dir / "driven.ply", mesh);
   EXPECT_NE(plyHeader(dir / "driven.ply").find("property uchar driven"), std::string::npos);
   const TriangleMesh back = readMesh(dir / "driven.ply");
-  EXPECT_EQ(back.is_driven, mesh.is_driven);
+  EXPECT_EQ(back.driven_kind, mesh.driven_kind);
   EXPECT_EQ(back.is_steiner, mesh.is_steiner);
 
-  mesh.is_driven = {0, 0, 0, 0};
+  mesh.driven_kind = {0, 0, 0, 0};
   writePly(dir / "plain.ply", mesh);
-  mesh.is_driven.clear();
+  mesh.driven_kind.clear();
   writePly(dir / "unflagged.ply", mesh);
   EXPECT_EQ(plyHeader(dir / "plain.ply").find("driven"), std::string::npos);
   std::ifstream a(dir / "plain.ply", std::ios::binary), b(dir / "unflagged.ply", std::ios::binary);
   const std::string bytes_a((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
   const std::string bytes_b((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
   EXPECT_EQ(bytes_a, bytes_b);
-  EXPECT_TRUE(readMesh(dir / "plain.ply").is_driven.empty());
+  EXPECT_TRUE(readMesh(dir / "plain.ply").driven_kind.empty());
+}
+
+TEST(DrivenGroundTest, PlyWithADrivenValueNoPointKindHasIsAnInputError) {
+  const test::TempDir dir;
+  std::ofstream(dir / "bad.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                    "property float z\nproperty uchar driven\nelement face 1\n"
+                                    "property list uchar int vertex_indices\nend_header\n"
+                                    "0 0 0 1\n1 0 0 2\n0 1 0 3\n3 0 1 2\n";
+  try {
+    readMesh(dir / "bad.ply");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.where(), "vertex 2");
+    EXPECT_NE(error.problem().find("expected 0, 1 driven ground or 2 its underside"), std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -169,7 +169,10 @@ struct FoldedFloor {
       if (floor.vertices[v].norm() < floor.vertices[hinge].norm()) hinge = v;
     }
   }
-  std::vector<mesher::SurfaceFace> faces(double drop, std::uint32_t crossings, std::uint8_t view_sides) const {
+  /// The floor and a fold from the hinge down by `drop`, whose two low vertices are undersides of
+  /// driven ground if `undersides`.
+  std::vector<mesher::SurfaceFace> faces(double drop, std::uint32_t crossings, std::uint8_t view_sides,
+                                         bool undersides = false) const {
     mesher::TriangleMesh folded = floor;
     const auto low = static_cast<std::uint32_t>(folded.vertices.size());
     folded.vertices.emplace_back(1.0, 0.4, -drop);
@@ -178,6 +181,7 @@ struct FoldedFloor {
     std::vector<mesher::SurfaceFace> out = facesOf(folded, 4);
     out.back().front_crossings = crossings;
     out.back().view_sides = view_sides;
+    out.back().underside_vertices = undersides ? 2 : 0;
     return out;
   }
   /// Whether floor face f has the hinge as a vertex.
@@ -236,20 +240,29 @@ TEST(EvidenceTest, GroundOverAFoldRaysCrossedUnderIsNotFree) {
 
 TEST(EvidenceTest, NoFoldWithoutRaysUnderItFromAbove) {
   // No ray crossed the space under the face, it drops within the points' noise (0.05 m, 3 cm
-  // noise), or a keyframe saw it from below (an underside: a deck's, whose matter was seen from
-  // both sides): no fold of free space. The faces at its vertex are as free as the rest.
+  // noise), a keyframe saw it from below (an underside: a deck's, whose matter was seen from
+  // both sides), or it hangs down to the underside of driven ground (a deck's slab the drive put
+  // there, 0.12 m: the underside depth and noise; seen from above only, with rays from the level
+  // beneath crossing under it): no fold of free space. The faces at its vertex are as free as the
+  // rest.
   const RobotProfile profile = smallWheeled();
   const FoldedFloor scene;
   const std::uint8_t both = mesher::view_side::kFront | mesher::view_side::kBehind;
-  for (const auto& [drop, crossings, sides] : {std::tuple<double, std::uint32_t, std::uint8_t>{0.3, 0, 0},
-                                               {0.05, 4, 0}, {0.3, 4, mesher::view_side::kFront}, {0.3, 4, both}}) {
-    const std::vector<FaceLayers> layers = layersOf(scene.faces(drop, crossings, sides), profile);
+  const std::uint8_t above = mesher::view_side::kBehind;
+  for (const auto& [drop, crossings, sides, undersides] :
+       {std::tuple<double, std::uint32_t, std::uint8_t, bool>{0.3, 0, 0, false},
+        {0.05, 4, 0, false},
+        {0.3, 4, mesher::view_side::kFront, false},
+        {0.3, 4, both, false},
+        {0.12, 4, above, true},
+        {0.3, 4, above, true}}) {
+    const std::vector<FaceLayers> layers = layersOf(scene.faces(drop, crossings, sides, undersides), profile);
     std::size_t checked = 0;
     for (std::size_t f = 0; f < scene.floor.faces.size(); ++f) {
       if (!scene.atHinge(f)) continue;
       ++checked;
       EXPECT_EQ(layers[f].face_class, FaceClass::kFree)
-          << "drop " << drop << ", crossings " << crossings << ", views " << int(sides);
+          << "drop " << drop << ", crossings " << crossings << ", views " << int(sides) << ", undersides " << undersides;
       EXPECT_LT(layers[f].height_uncertainty_m, 0.1f);
     }
     EXPECT_GE(checked, 6u);

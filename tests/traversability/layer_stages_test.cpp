@@ -83,7 +83,7 @@ TEST(LayerPipeline, TheShippedStagesRunInDependencyOrderAndWriteEveryLayerOnce) 
   std::set<std::string> written_before;
   // What no stage writes: the mesh's faces and counts, the drive, the unconfirmed points.
   const std::set<std::string> inputs = {"geometry",        "rays",  "front_crossings",   "back_crossings", "back_depth",
-                                        "driven_vertices", "drive", "unconfirmed_points"};
+                                        "driven_vertices", "underside_vertices", "drive", "unconfirmed_points"};
   for (const auto& s : pipeline.stages()) {
     const StageDeclaration& d = s->declaration();
     order.push_back(d.name);

@@ -491,7 +491,7 @@ mesher::TriangleMesh meshStreet(bool with_evidence, const TrajectoryEvidenceConf
     }
     std::size_t driven = 0;
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-      if (!mesh.is_driven[v]) continue;
+      if (mesh.driven_kind[v] != static_cast<std::uint8_t>(mesher::PointKind::kDrivenGround)) continue;
       ++driven;
       EXPECT_EQ(mesh.vertices[v], expected.at(mesh.vertex_keys[v].value));
     }

@@ -86,7 +86,7 @@ void appendMap(LayeredMesh& into, const LayeredMesh& part) {
   };
   const std::size_t part_vertices = part.mesh.vertices.size(), part_faces = part.mesh.faces.size();
   appendAligned(into.mesh.is_steiner, part.mesh.is_steiner, offset, part_vertices);
-  appendAligned(into.mesh.is_driven, part.mesh.is_driven, offset, part_vertices);
+  appendAligned(into.mesh.driven_kind, part.mesh.driven_kind, offset, part_vertices);
   appendAligned(into.mesh.vertex_keys, part.mesh.vertex_keys, offset, part_vertices);
   appendAligned(into.mesh.face_rays, part.mesh.face_rays, faces_before, part_faces);
   appendAligned(into.mesh.face_front_crossings, part.mesh.face_front_crossings, faces_before, part_faces);

@@ -111,13 +111,15 @@ class LayerComputer {
   /// 30 degrees below horizontal), dropping more than three sigmas of the points' noise from its
   /// top vertex, that rays crossed under (the cell in front of it) but no keyframe saw from below
   /// (no view on its front side: an underside seen from below, a deck's or a car's, has matter
-  /// over it that was seen from both sides). Where it hangs from ground, rays from above reached
+  /// over it that was seen from both sides), and that does not hang down to the underside under
+  /// driven ground (a deck's slab, put there by the drive: no camera saw it, and no ray crossed
+  /// under the drive that was not meant to). Where it hangs from ground, rays from above reached
   /// under that ground: the ground over it is a crust over free space whose depth nothing
   /// measured, so the worst case takes it as deep as a footprint sample looks for ground
   /// (band_down_m_), or deeper if the fold shows it. 0 for any other face.
   double foldVoidM(const StoredFace& f) const {
     const double drop = f.max_z - f.min_z;
-    const bool fold = !f.steiner && f.front_crossings > 0 && f.normal_L.z() < kMaxFoldNormalZ &&
+    const bool fold = !f.steiner && f.underside_vertices == 0 && f.front_crossings > 0 && f.normal_L.z() < kMaxFoldNormalZ &&
                       (f.view_sides & mesher::view_side::kFront) == 0 &&
                       drop > 3.0 * profile_.evidence.point_noise_m;
     return fold ? std::max(drop, band_down_m_) : 0.0;

@@ -90,6 +90,7 @@ Slot SurfaceStore::add(const mesher::SurfaceFace& input) {
   f.back_depth_m = input.back_depth * metres_per_unit_;
   f.view_sides = input.view_sides;
   f.driven_vertices = input.driven_vertices;
+  f.underside_vertices = input.underside_vertices;
   f.steiner = input.touches_steiner;
   for (const auto& v : input.vertices) f.steiner = f.steiner || v.steiner;
   f.alive = true;

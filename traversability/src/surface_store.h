@@ -45,6 +45,8 @@ struct StoredFace {
   std::uint8_t view_sides = 0;
   /// How many vertices are driven-ground samples (mesher::SurfaceFace::driven_vertices).
   std::uint8_t driven_vertices = 0;
+  /// How many are undersides of driven ground (mesher::SurfaceFace::underside_vertices).
+  std::uint8_t underside_vertices = 0;
   bool steiner = false;
   bool alive = false;
   /// On driven ground (all three vertices driven, a pose lookup set): the horizontal unit axis the

@@ -15,6 +15,7 @@
 #include "face_projection.h"
 #include "layer_computer.h"
 #include "layer_stages.h"
+#include "mesher/keyframe.h"
 #include "surface_store.h"
 
 namespace terramesh::traversability {
@@ -332,8 +333,12 @@ LayeredMesh TraversabilityMap::computeForMesh(const mesher::TriangleMesh& mesh, 
     }
     face.key = mesher::FaceKey::of(face.vertices[0], face.vertices[1], face.vertices[2]);
     face.touches_steiner = steiner;
-    if (mesh.is_driven.size() == mesh.vertices.size()) {
-      for (int i = 0; i < 3; ++i) face.driven_vertices += mesh.is_driven[tri[i]] != 0 ? 1 : 0;
+    if (mesh.driven_kind.size() == mesh.vertices.size()) {
+      for (int i = 0; i < 3; ++i) {
+        const auto kind = static_cast<mesher::PointKind>(mesh.driven_kind[tri[i]]);
+        face.driven_vertices += kind == mesher::PointKind::kDrivenGround ? 1 : 0;
+        face.underside_vertices += kind == mesher::PointKind::kDrivenUnderside ? 1 : 0;
+      }
     }
     if (observed) {
       // terramesh's own meshes keep the observation counts the mesher reported.

@@ -79,6 +79,8 @@ struct SurfaceFace {
   /// How many of its vertices (0-3) are driven-ground samples (PointKind::kDrivenGround): ground
   /// the robot's own trajectory put there.
   std::uint8_t driven_vertices = 0;
+  /// How many of its vertices are undersides of driven ground (PointKind::kDrivenUnderside).
+  std::uint8_t underside_vertices = 0;
   /// On which sides of the face's plane lie the keyframes whose rays end on its vertices
   /// (view_side bits, counted when the face was reported); a view within view_side::kGrazingDeg
   /// of the plane counts for neither. view_side::kBehind alone: its points were seen only from

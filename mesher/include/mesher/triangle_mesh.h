@@ -17,10 +17,11 @@ struct TriangleMesh {
   /// One flag per vertex: 1 for a Steiner (grid) vertex, 0 for a measured SLAM point.
   /// Either empty (unknown) or the same size as `vertices`.
   std::vector<std::uint8_t> is_steiner;
-  /// One flag per vertex: 1 for a driven-ground sample (mesher::PointKind::kDrivenGround: ground
-  /// under the robot's own trajectory), 0 otherwise. Either empty (unknown or none, e.g. a mesh
-  /// read from a file without the `driven` property) or the same size as `vertices`.
-  std::vector<std::uint8_t> is_driven;
+  /// One value per vertex, its mesher::PointKind: 1 for a driven-ground sample (kDrivenGround:
+  /// ground under the robot's own trajectory), 2 for the underside under one (kDrivenUnderside), 0
+  /// otherwise. Either empty (unknown or none, e.g. a mesh read from a file without the `driven`
+  /// property) or the same size as `vertices`.
+  std::vector<std::uint8_t> driven_kind;
   /// Stable identity of each vertex (SLAM point id or Steiner lattice node). Either empty
   /// (unknown, e.g. a mesh read from a file) or the same size as `vertices`.
   std::vector<VertexKey> vertex_keys;
@@ -67,7 +68,7 @@ struct MeshTopology {
 MeshTopology analyzeTopology(const TriangleMesh& mesh);
 
 /// Returns the open surface made of the faces that touch no Steiner vertex, with unreferenced
-/// vertices removed. Requires `mesh.is_steiner` to be filled; `vertex_keys` and `is_driven` are
+/// vertices removed. Requires `mesh.is_steiner` to be filled; `vertex_keys` and `driven_kind` are
 /// carried along when they have one entry per vertex.
 /// @throw std::invalid_argument if `is_steiner` does not match the vertex count.
 TriangleMesh dropSteinerFaces(const TriangleMesh& mesh);
