@@ -262,7 +262,8 @@ TEST(EvidenceTest, NoFoldWithoutRaysUnderItFromAbove) {
       if (!scene.atHinge(f)) continue;
       ++checked;
       EXPECT_EQ(layers[f].face_class, FaceClass::kFree)
-          << "drop " << drop << ", crossings " << crossings << ", views " << int(sides) << ", undersides " << undersides;
+          << "drop " << drop << ", crossings " << crossings << ", views " << int(sides)
+          << ", undersides " << undersides;
       EXPECT_LT(layers[f].height_uncertainty_m, 0.1f);
     }
     EXPECT_GE(checked, 6u);

@@ -119,8 +119,8 @@ class LayerComputer {
   /// (band_down_m_), or deeper if the fold shows it. 0 for any other face.
   double foldVoidM(const StoredFace& f) const {
     const double drop = f.max_z - f.min_z;
-    const bool fold = !f.steiner && f.underside_vertices == 0 && f.front_crossings > 0 && f.normal_L.z() < kMaxFoldNormalZ &&
-                      (f.view_sides & mesher::view_side::kFront) == 0 &&
+    const bool fold = !f.steiner && f.underside_vertices == 0 && f.front_crossings > 0 &&
+                      f.normal_L.z() < kMaxFoldNormalZ && (f.view_sides & mesher::view_side::kFront) == 0 &&
                       drop > 3.0 * profile_.evidence.point_noise_m;
     return fold ? std::max(drop, band_down_m_) : 0.0;
   }

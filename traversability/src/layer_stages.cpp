@@ -16,7 +16,8 @@ void SlotMarks::next() {
 EvidenceStage::EvidenceStage(const LayerComputer& computer)
     : computer_(computer),
       declaration_{"evidence",
-                   {"geometry", "front_crossings", "back_crossings", "back_depth", "driven_vertices", "underside_vertices"},
+                   {"geometry", "front_crossings", "back_crossings", "back_depth", "driven_vertices",
+                    "underside_vertices"},
                    {"evidence", "height_uncertainty_m"},
                    {StageReach::Kind::kVertexNeighbours, 0.0}} {}
 
