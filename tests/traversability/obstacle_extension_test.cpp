@@ -57,6 +57,76 @@ TEST(ObstacleExtensionTest, AMeasuredWallMayExtendAlongItselfAndBehindItNotTowar
   expectAt(-(r + cap + 0.15), -2.45, FaceClass::kFree, "far behind the wall");
 }
 
+TEST(ObstacleExtensionTest, ASlantedFaceMayNotExtendPastItsFootEither) {
+  // A measured face rising at 25 degrees (steeper than small_wheeled's 20, not a wall) from the
+  // floor at x = 0 up to 0.7 m at x = -1.5, for -5 < y < 0, descending towards +x (its front).
+  // Its part in the body starts 0.39 m behind its foot; extended every way it would reach 0.11 m
+  // past the foot, over floor the rays that measured the face crossed. It extends towards its
+  // front only down to its foot, along itself past its free end as a wall does.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const double cap = profile.evidence.max_obstacle_extension_m;
+  const double rise = 1.5 * std::tan(25.0 * M_PI / 180.0);
+  const double body_from_foot = profile.max_step_m / std::tan(25.0 * M_PI / 180.0);
+  ASSERT_GT(body_from_foot, 0.3);
+  ASSERT_GT(cap - body_from_foot, 0.08);  // every way, past the foot
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-4, 4, -6, 4, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  mesher::TriangleMesh slant;
+  slant.vertices = {{0, -5, 0}, {0, 0, 0}, {-1.5, 0, rise}, {-1.5, -5, rise}};
+  slant.faces = {{0, 1, 2}, {0, 2, 3}};
+  test::appendMesh(mesh, slant);
+  const std::vector<FaceLayers> layers = layersOf(facesOf(mesh, 4), profile);
+  const auto classAt = [&](double x, double y) {
+    std::vector<FaceClass> classes;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      if (std::abs(c.x() - x) < 0.025 && std::abs(c.y() - y) < 0.025) classes.push_back(layers[f].face_class);
+    }
+    return classes;
+  };
+  // The footprint's edge 0.05 m past the foot: clear of the face, within the old disc.
+  for (const FaceClass got : classAt(r + 0.05, -2.45)) EXPECT_EQ(got, FaceClass::kFree) << "in front of its foot";
+  // Beyond its free end, as close: the face may continue along itself.
+  for (const FaceClass got : classAt(0.05, 0.5 * cap + r)) EXPECT_EQ(got, FaceClass::kUncertain) << "past its end";
+  EXPECT_FALSE(classAt(r + 0.05, -2.45).empty());
+  EXPECT_FALSE(classAt(0.05, 0.5 * cap + r).empty());
+}
+
+TEST(ObstacleExtensionTest, ATiltedTopWhollyInTheBodyMayExtendEveryWay) {
+  // The top of something, tilted 25 degrees (steeper than small_wheeled's 20) down towards +x:
+  // 0.48 m up at x = -0.6, 0.2 m at x = 0, both within the body; its sides unmeasured. It ends where
+  // its points end, and what holds it up may stand past its low edge: the floor in front of that
+  // edge, within its extension, is not free; beyond that it is.
+  const RobotProfile profile = smallWheeled();
+  const double r = profile.footprintCircumradiusM();
+  const double cap = profile.evidence.max_obstacle_extension_m;
+  const double low = 0.2, high = low + 0.6 * std::tan(25.0 * M_PI / 180.0);
+  ASSERT_GT(low, profile.max_step_m);
+  ASSERT_LT(high, profile.min_clearance_m);
+  mesher::TriangleMesh mesh = test::heightFieldMesh(0.1, 4, -6, 4, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  mesher::TriangleMesh top;
+  top.vertices = {{0, -5, low}, {0, 0, low}, {-0.6, 0, high}, {-0.6, -5, high}};
+  top.faces = {{0, 1, 2}, {0, 2, 3}};  // facing up, and towards +x
+  test::appendMesh(mesh, top);
+  const std::vector<FaceLayers> layers = layersOf(facesOf(mesh, 4), profile);
+  std::size_t near = 0, far = 0;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (std::abs(c.y() + 2.45) >= 0.025) continue;
+    if (std::abs(c.x() - (r + 0.5 * cap)) < 0.025) {
+      ++near;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "within its extension, at x " << c.x();
+    } else if (std::abs(c.x() - (r + cap + 0.15)) < 0.025) {
+      ++far;
+      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "beyond its extension, at x " << c.x();
+    }
+  }
+  EXPECT_GT(near, 0u);
+  EXPECT_GT(far, 0u);
+}
+
 TEST(ObstacleExtensionTest, OnDrivenGroundAnObstacleMayExtendOnlyBeyondTheStripTheBodySwept) {
   // A driven strip (|y| <= the robot's radius, the drive along y = 0) and, beyond it, a measured
   // 0.4 m wall across the drive's direction (x = 0, 0.6 < y < 3) whose free end points at the

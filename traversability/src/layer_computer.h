@@ -361,7 +361,8 @@ class LayerComputer {
   /// How far the measured obstacle face t may extend beyond what was measured of it.
   double obstacleExtensionM(const SampleGeometry& t) const;
   /// Sets the extension of o, a measured obstacle part of face t relative to centroid c:
-  /// obstacleExtensionM(t), and for a face steeper than 30 degrees (kMinFrontNormalXy) its front
+  /// obstacleExtensionM(t), and for a face steeper than 30 degrees (kMinFrontNormalXy), or than 10
+  /// degrees and descending below the body towards its front (kMinSlantFrontNormalXy), its front
   /// and how far ahead of the part the face reaches (Obstacle::front, ahead_m).
   void setExtension(Obstacle& o, const SampleGeometry& t, const Eigen::Vector3d& c) const;
   /// Sets o.grown: o grown along its face and behind it, and ahead_m in front.

@@ -23,6 +23,14 @@ constexpr double kSweptSideToleranceM = 1e-6;
 /// A face whose normal's horizontal part is at least this long (steeper than 30 degrees) has a
 /// front: where it may extend is along it and behind it.
 constexpr double kMinFrontNormalXy = 0.5;
+/// A slanted face steeper than this (10 degrees: every obstacle face of a shipped profile is) has a
+/// front too where it descends below the body towards it, as a ramp up to a rock's top does: the
+/// rays that measured it crossed the space over it down to its foot. A tilted top wholly in the
+/// body ends where its points end, and what holds it up may stand past that edge.
+constexpr double kMinSlantFrontNormalXy = 0.17;
+/// A slanted face reaches this far ahead of its part in the body where it descends below the body
+/// (far more than rounding).
+constexpr double kMinAheadM = 1e-6;
 
 /// Sutherland-Hodgman: the part of convex polygon `in` (n points) where normal . p >= bound, into
 /// `out` (room for n + 1 points); 0 if it only touches the line (a footprint touching the line
@@ -248,15 +256,18 @@ bool LayerComputer::beyondSideWithin(const Obstacle& shadow, const Eigen::Vector
 void LayerComputer::setExtension(Obstacle& o, const SampleGeometry& t, const Eigen::Vector3d& c) const {
   o.extension_m = obstacleExtensionM(t);
   const double front_length = t.normal_xy.norm();
-  if (!(o.extension_m > 0) || !(front_length >= kMinFrontNormalXy) || o.n == 0) return;
+  if (!(o.extension_m > 0) || !(front_length >= kMinSlantFrontNormalXy) || o.n == 0) return;
   // In front, as far as the face itself reaches below the body (that span is interpolated too).
-  o.front = t.normal_xy / front_length;
+  const Eigen::Vector2d front = t.normal_xy / front_length;
   double part_front = -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < o.n; ++i) part_front = std::max(part_front, o.front.dot(o.p[static_cast<std::size_t>(i)]));
+  for (int i = 0; i < o.n; ++i) part_front = std::max(part_front, front.dot(o.p[static_cast<std::size_t>(i)]));
   const Eigen::Vector2d v0(t.x0 - c.x(), t.y0 - c.y());
-  const double face_front = std::max({o.front.dot(v0), o.front.dot(v0 + Eigen::Vector2d(t.bx, t.by)),
-                                      o.front.dot(v0 + Eigen::Vector2d(t.cx, t.cy))});
-  o.ahead_m = std::clamp(face_front - part_front, 0.0, o.extension_m);
+  const double face_front = std::max({front.dot(v0), front.dot(v0 + Eigen::Vector2d(t.bx, t.by)),
+                                      front.dot(v0 + Eigen::Vector2d(t.cx, t.cy))});
+  const double ahead = face_front - part_front;
+  if (front_length < kMinFrontNormalXy && !(ahead > kMinAheadM)) return;  // a tilted top: every way
+  o.front = front;
+  o.ahead_m = std::clamp(ahead, 0.0, o.extension_m);
 }
 
 void LayerComputer::growAlongFace(const Obstacle& o) {
