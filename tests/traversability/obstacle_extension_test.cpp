@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include "evidence_faces.h"
 #include "test_support/traversability_scenes.h"
@@ -21,6 +22,18 @@ mesher::TriangleMesh wallFacingPlusX(double x0, double y0, double y1, double hei
   wall.vertices = {{x0, y0, 0}, {x0, y1, 0}, {x0, y1, height}, {x0, y0, height}};
   wall.faces = {{0, 1, 2}, {0, 2, 3}};
   return wall;
+}
+
+/// The classes of the floor faces (the first `floor_faces` of `mesh`) centred within 0.025 m of
+/// (x, y).
+std::vector<FaceClass> floorClassesAt(const mesher::TriangleMesh& mesh, const std::vector<FaceLayers>& layers,
+                                      std::size_t floor_faces, double x, double y) {
+  std::vector<FaceClass> classes;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (std::abs(c.x() - x) < 0.025 && std::abs(c.y() - y) < 0.025) classes.push_back(layers[f].face_class);
+  }
+  return classes;
 }
 
 TEST(ObstacleExtensionTest, AMeasuredWallMayExtendAlongItselfAndBehindItNotTowardsItsFront) {
@@ -77,14 +90,7 @@ TEST(ObstacleExtensionTest, ASlantedFaceMayNotExtendPastItsFootEither) {
   slant.faces = {{0, 1, 2}, {0, 2, 3}};
   test::appendMesh(mesh, slant);
   const std::vector<FaceLayers> layers = layersOf(facesOf(mesh, 4), profile);
-  const auto classAt = [&](double x, double y) {
-    std::vector<FaceClass> classes;
-    for (std::size_t f = 0; f < floor_faces; ++f) {
-      const Eigen::Vector3d c = centroid(mesh, f);
-      if (std::abs(c.x() - x) < 0.025 && std::abs(c.y() - y) < 0.025) classes.push_back(layers[f].face_class);
-    }
-    return classes;
-  };
+  const auto classAt = [&](double x, double y) { return floorClassesAt(mesh, layers, floor_faces, x, y); };
   // The footprint's edge 0.05 m past the foot: clear of the face, within the old disc.
   for (const FaceClass got : classAt(r + 0.05, -2.45)) EXPECT_EQ(got, FaceClass::kFree) << "in front of its foot";
   // Beyond its free end, as close: the face may continue along itself.
@@ -111,20 +117,12 @@ TEST(ObstacleExtensionTest, ATiltedTopWhollyInTheBodyMayExtendEveryWay) {
   top.faces = {{0, 1, 2}, {0, 2, 3}};  // facing up, and towards +x
   test::appendMesh(mesh, top);
   const std::vector<FaceLayers> layers = layersOf(facesOf(mesh, 4), profile);
-  std::size_t near = 0, far = 0;
-  for (std::size_t f = 0; f < floor_faces; ++f) {
-    const Eigen::Vector3d c = centroid(mesh, f);
-    if (std::abs(c.y() + 2.45) >= 0.025) continue;
-    if (std::abs(c.x() - (r + 0.5 * cap)) < 0.025) {
-      ++near;
-      EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << "within its extension, at x " << c.x();
-    } else if (std::abs(c.x() - (r + cap + 0.15)) < 0.025) {
-      ++far;
-      EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "beyond its extension, at x " << c.x();
-    }
-  }
-  EXPECT_GT(near, 0u);
-  EXPECT_GT(far, 0u);
+  const std::vector<FaceClass> near = floorClassesAt(mesh, layers, floor_faces, r + 0.5 * cap, -2.45);
+  const std::vector<FaceClass> far = floorClassesAt(mesh, layers, floor_faces, r + cap + 0.15, -2.45);
+  for (const FaceClass got : near) EXPECT_EQ(got, FaceClass::kUncertain) << "within its extension";
+  for (const FaceClass got : far) EXPECT_EQ(got, FaceClass::kFree) << "beyond its extension";
+  EXPECT_FALSE(near.empty());
+  EXPECT_FALSE(far.empty());
 }
 
 TEST(ObstacleExtensionTest, OnDrivenGroundAnObstacleMayExtendOnlyBeyondTheStripTheBodySwept) {
