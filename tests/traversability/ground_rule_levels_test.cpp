@@ -16,6 +16,7 @@
 #include "datasets/triangle_bvh.h"
 #include "evidence_stream.h"
 #include "mesher/mesher.h"
+#include "simulated_scene.h"
 #include "test_support/mesh_queries.h"
 #include "traversability/layer_registry.h"
 #include "traversability/robot_profile_yaml.h"
@@ -27,22 +28,15 @@ namespace {
 
 const std::filesystem::path kRobots = std::filesystem::path(TERRAMESH_SOURCE_DIR) / "traversability" / "robots";
 
-struct Garage {
-  datasets::SyntheticScene scene;
-  datasets::SimulatedSlam slam;
-};
+using Garage = test_stream::SimulatedScene;
 
 Garage makeGarage(double length_m, std::uint64_t seed) {
-  Garage g;
   datasets::GarageSceneConfig config;
   config.length_m = length_m;
   config.seed = seed;
-  g.scene = datasets::buildGarageScene(config);
-  const datasets::TriangleBvh bvh(g.scene.ground_truth.mesh);
   datasets::SlamSimulationConfig slam;
   slam.seed = seed;
-  g.slam = datasets::simulateSlam(g.scene, bvh, slam);
-  return g;
+  return test_stream::simulate(datasets::buildGarageScene(config), slam);
 }
 
 /// A 40 m garage, seed 3.
