@@ -26,13 +26,21 @@ using internal::requireFrame;
 /// footprint's edges. A ring would leave a notch between neighbouring stations that closing
 /// geometry from beside the path reaches into; a grid over a long rectangle puts the rows of
 /// overlapping patches nearly on top of each other, at heights that differ by the poses' noise.
+/// A face's layers hold for the footprint centred on its centroid, which reaches as far past the
+/// strip the drive swept as the centroid lies off the drive's centre line. A cross-section no
+/// wider than `spacing` gets three rails, one on the centre line: its vertices are where the whole
+/// footprint was driven (vertex planners such as mesh_navigation's move on them), and the faces
+/// beside it lie a third and two thirds of the half width off it. Wider ones get an even number
+/// of rails, none on the centre line: the faces between the two innermost rails straddle it
+/// (with a centre rail the nearest lie a third of a gap off it, 0.3 m for the car).
 std::vector<Eigen::Vector3d> patchLayout(const RobotProfile& profile, const TrajectoryEvidenceConfig& config) {
   const double half_width = config.patch_fraction * (profile.footprint == FootprintShape::kDisc
                                                          ? profile.footprint_radius_m
                                                          : 0.5 * profile.footprint_width_m);
-  const int half = std::max(1, static_cast<int>(std::ceil(half_width / config.sample_spacing_m)));
+  const int gaps = std::max(1, static_cast<int>(std::ceil(2.0 * half_width / config.sample_spacing_m)));
+  const int count = gaps == 1 ? 3 : gaps + 1 + (gaps + 1) % 2;
   std::vector<Eigen::Vector3d> layout;
-  for (int i = -half; i <= half; ++i) layout.emplace_back(0, half_width * i / half, 0);
+  for (int i = 0; i < count; ++i) layout.emplace_back(0, half_width * (2.0 * i / (count - 1) - 1.0), 0);
   return layout;
 }
 
