@@ -30,10 +30,13 @@ inline Projection projectionOf(const StoredFace& f) {
   return {{f.p_L[0].head<2>(), f.p_L[1].head<2>(), f.p_L[2].head<2>()}, f.box_min, f.box_max};
 }
 
-/// Face s of `store` as a change (as it is now).
+/// Face s of `store` as a change (as it is now). A face with two driven vertices counts as driven
+/// ground whatever its evidence says now: whether it is the strip's edge is decided after it is
+/// added, and may change with the drive's poses.
 inline Change changeOf(const SurfaceStore& store, Slot s) {
   const SampleGeometry& g = store.geometry(s);
-  return {projectionOf(store.face(s)), store.bounds(s), g.sampleable, g.sampleable && g.driven};
+  const bool driven = g.driven || store.face(s).driven_vertices >= 2;
+  return {projectionOf(store.face(s)), store.bounds(s), g.sampleable, g.sampleable && driven};
 }
 
 /// The point of segment ab closest to q.

@@ -87,6 +87,9 @@ class LayerComputer {
   /// (slopeSupport), so TraversabilityMap sets it again when they change. Returns whether the
   /// evidence, the bound or the relief changed.
   bool setEvidence(SurfaceStore& store, Slot s) const;
+  /// Two driven vertices and a third beside them, level within a step, its centroid within the
+  /// footprint's half width of the drive: the edge of the strip the robot drove.
+  bool onDrivenEdge(const StoredFace& f) const;
   /// Whether rays saw the space a face closes off as free: at least max(1, min_rays) rays crossed
   /// the cell behind it (fewer: a point's noise). The 2-manifold keeps such a face; it is no
   /// measured surface.

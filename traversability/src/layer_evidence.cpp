@@ -21,6 +21,16 @@ double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
 
 }  // namespace
 
+bool LayerComputer::onDrivenEdge(const StoredFace& f) const {
+  if (f.driven_vertices != 2 || !(f.normal_L.z() >= cos_max_slope_) || f.max_z - f.min_z > profile_.max_step_m) {
+    return false;
+  }
+  if (!(f.drive_axis.squaredNorm() > 0)) return false;
+  const Eigen::Vector2d d = f.centroid_L.head<2>() - f.drive_centre;
+  const double lateral = std::abs(f.drive_axis.x() * d.y() - f.drive_axis.y() * d.x());
+  return lateral <= sweptHalfWidthM();
+}
+
 bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
   StoredFace& f = store.face(s);
   const SampleGeometry& g = store.geometry(s);
@@ -30,7 +40,7 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
   double relief = bound;
   if (f.steiner) {
     // Closing geometry: nobody measured it; its height is unknown.
-  } else if (f.driven_vertices == 3) {
+  } else if (f.driven_vertices == 3 || onDrivenEdge(f)) {
     // The robot stood there: the mounting's uncertainty, an offset shared by the whole patch.
     evidence = Evidence::kDriven;
     bound = m.driven_uncertainty_m;
@@ -78,7 +88,7 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
                        g.relief_m != relief;
   f.layers.evidence = evidence;
   f.layers.height_uncertainty_m = bound_f;
-  store.setSampleEvidence(s, evidence == Evidence::kInterpolated, relief);
+  store.setSampleEvidence(s, evidence == Evidence::kInterpolated, evidence == Evidence::kDriven, relief);
   return changed;
 }
 

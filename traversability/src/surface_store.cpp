@@ -29,25 +29,27 @@ void SurfaceStore::setDrive(Slot s,
   StoredFace& f = faces_[s];
   f.drive_axis.setZero();
   f.drive_centre.setZero();
-  if (f.driven_vertices != 3 || !lookup) return;
+  if (f.driven_vertices < 2 || !lookup) return;
   // Axes modulo a half turn: the doubled angle's mean (a strip driven both ways has one axis).
   double c2 = 0, s2 = 0;
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  int bases = 0;
   for (const mesher::VertexKey& v : f.vertices) {
     const std::optional<Eigen::Isometry3d> base_W = lookup(mesher::PointId{v.value});
-    if (!base_W) return;
-    centre += (R_L_W_ * (base_W->translation() * metres_per_unit_)).head<2>() / 3.0;
+    if (!base_W) continue;  // a SLAM point beside two driven samples
+    centre += (R_L_W_ * (base_W->translation() * metres_per_unit_)).head<2>();
+    ++bases;
     const Eigen::Vector2d h = (R_L_W_ * base_W->linear().col(0)).head<2>();
     if (!(h.squaredNorm() > 0)) return;
     const double angle = std::atan2(h.y(), h.x());
     c2 += std::cos(2 * angle);
     s2 += std::sin(2 * angle);
   }
-  // Three headings whose axes spread over more than about 60 degrees give no axis.
-  if (!(std::hypot(c2, s2) > 1.5)) return;
+  // Headings whose axes spread over more than about 60 degrees give no axis.
+  if (bases < f.driven_vertices || !(std::hypot(c2, s2) > 0.5 * bases)) return;
   const double angle = 0.5 * std::atan2(s2, c2);
   f.drive_axis = Eigen::Vector2d(std::cos(angle), std::sin(angle));
-  f.drive_centre = centre;
+  f.drive_centre = centre / bases;
 }
 
 Slot SurfaceStore::add(const mesher::SurfaceFace& input) {

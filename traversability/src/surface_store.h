@@ -121,8 +121,8 @@ struct SampleGeometry {
   /// The face's evidence is interpolated (closing geometry or an unobserved span): as an obstacle
   /// it is only a possible one.
   bool interpolated = true;
-  /// Whether a vertex is a driven-ground sample (StoredFace::driven_vertices > 0), and whether all
-  /// three are.
+  /// Whether a vertex is a driven-ground sample (StoredFace::driven_vertices > 0), and whether the
+  /// face is driven ground (all three are, or it is the strip's edge: its evidence is driven).
   bool touches_driven = false;
   bool driven = false;
   /// The relief the face's span may hide (its height uncertainty bound less the noise floor that
@@ -177,9 +177,9 @@ class SurfaceStore {
   /// Adds a face, replacing one with the same key. Returns its slot.
   /// @throw std::length_error if 2^30 slots are in use.
   Slot add(const mesher::SurfaceFace& face);
-  /// Sets face s's drive_axis and drive_centre from the bases of its vertices (all driven; else
-  /// zero): the mean of their horizontal axes, taken modulo a half turn (zero when they spread),
-  /// and of their origins.
+  /// Sets face s's drive_axis and drive_centre from the bases of its driven vertices (at least
+  /// two; else zero): the mean of their horizontal axes, taken modulo a half turn (zero when they
+  /// spread), and of their origins.
   void setDrive(Slot s, const std::function<std::optional<Eigen::Isometry3d>(mesher::PointId)>& lookup);
   /// Removes the face with this key; false if unknown.
   bool remove(const mesher::FaceKey& key);
@@ -195,8 +195,9 @@ class SurfaceStore {
   /// The face's sampling geometry (equal to that of face(s)).
   const SampleGeometry& geometry(Slot s) const { return geometry_[s]; }
   /// Sets the evidence fields of the face's sampling geometry (kept equal to its layers').
-  void setSampleEvidence(Slot s, bool interpolated, double relief_m) {
+  void setSampleEvidence(Slot s, bool interpolated, bool driven, double relief_m) {
     geometry_[s].interpolated = interpolated;
+    geometry_[s].driven = driven && !geometry_[s].steiner;
     geometry_[s].relief_m = relief_m;
   }
   /// The face's centroid (equal to face(s).centroid_L), packed densely.
