@@ -25,10 +25,7 @@ bool LayerComputer::onDrivenEdge(const StoredFace& f) const {
   if (f.driven_vertices != 2 || !(f.normal_L.z() >= cos_max_slope_) || f.max_z - f.min_z > profile_.max_step_m) {
     return false;
   }
-  if (!(f.drive_axis.squaredNorm() > 0)) return false;
-  const Eigen::Vector2d d = f.centroid_L.head<2>() - f.drive_centre;
-  const double lateral = std::abs(f.drive_axis.x() * d.y() - f.drive_axis.y() * d.x());
-  return lateral <= sweptHalfWidthM();
+  return f.drive_axis.squaredNorm() > 0 && std::abs(f.driveOffsetM()) <= sweptHalfWidthM();
 }
 
 bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {

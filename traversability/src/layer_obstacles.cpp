@@ -156,8 +156,8 @@ bool LayerComputer::pushBeyondStrip(const StoredFace& f, const Obstacle& o, Obst
   if (!(f.drive_axis.squaredNorm() > 0)) return false;
   // The strip |across| <= half width about the drive's centre line, across = n . p - offset
   // (p relative to the centroid).
-  const Eigen::Vector2d n(-f.drive_axis.y(), f.drive_axis.x());
-  const double offset = n.dot(f.drive_centre - f.centroid_L.head<2>());
+  const Eigen::Vector2d n = f.driveNormal();
+  const double offset = f.driveOffsetM();
   const double half = sweptHalfWidthM();
   // Beyond either side nobody drove: those parts count whole.
   for (const double sign : {1.0, -1.0}) {

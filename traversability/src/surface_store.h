@@ -49,11 +49,15 @@ struct StoredFace {
   std::uint8_t underside_vertices = 0;
   bool steiner = false;
   bool alive = false;
-  /// On driven ground (all three vertices driven, a pose lookup set): the horizontal unit axis the
-  /// robot drove along there (either sense), zero otherwise; and a point of the drive's centre
-  /// line (the mean of the vertices' base origins, L).
+  /// With two or three driven vertices (a pose lookup set): the horizontal unit axis the robot
+  /// drove along there (either sense), zero otherwise; and a point of the drive's centre line (the
+  /// mean of the driven vertices' base origins, L).
   Eigen::Vector2d drive_axis = Eigen::Vector2d::Zero();
   Eigen::Vector2d drive_centre = Eigen::Vector2d::Zero();
+  /// The horizontal normal of the drive's centre line (drive_axis turned a quarter left).
+  Eigen::Vector2d driveNormal() const { return {-drive_axis.y(), drive_axis.x()}; }
+  /// Where the drive's centre line lies from the centroid along driveNormal(), metres.
+  double driveOffsetM() const { return driveNormal().dot(drive_centre - centroid_L.head<2>()); }
   FaceLayers layers;
   /// Fraction of the footprint samples that found ground on faces no steeper than max_slope
   /// (set with the local layers; tells a step riser from a steep ramp).
