@@ -95,36 +95,18 @@ TEST(DrivenEdgeTest, ALevelFaceFromTheStripToAPointBesideItIsDrivenWhereItsCentr
   // Incrementally as in a full computation: a stretch of the strip and its edges added last, then
   // removed again.
   const DrivePoseLookup poses = basesOnLine(mesh, 0.0);
-  std::vector<mesher::SurfaceFace> rest;
-  mesher::SurfaceDelta stretch{0, 0, true, {}, {}, {}};
+  std::vector<mesher::SurfaceFace> rest, stretch;
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const Eigen::Vector3d c = centroid(mesh, f);
-    if (c.x() > -2.0 && c.x() < -1.0 && std::abs(c.y()) < 0.6) {
-      stretch.added.push_back(faces[f]);
-    } else {
-      rest.push_back(faces[f]);
-    }
+    (c.x() > -2.0 && c.x() < -1.0 && std::abs(c.y()) < 0.6 ? stretch : rest).push_back(faces[f]);
   }
   TraversabilityMap map(profile, MapFrame{});
   map.setDrivePoses(poses);
   map.reset(rest);
-  const auto expectSame = [&](const std::vector<mesher::SurfaceFace>& input, const char* what) {
-    const std::map<mesher::FaceKey, FaceLayers> full = layersByKey(input, profile, poses);
-    const std::map<mesher::FaceKey, FaceLayers> incremental = layersByKey(map);
-    ASSERT_EQ(incremental.size(), full.size()) << what;
-    for (const auto& [key, want] : full) {
-      const FaceLayers& got = incremental.at(key);
-      EXPECT_EQ(got.evidence, want.evidence) << what;
-      EXPECT_EQ(got.face_class, want.face_class) << what;
-      EXPECT_EQ(got.contact, want.contact) << what;
-    }
-  };
-  map.apply(stretch, {});
-  expectSame(faces, "the stretch added");
-  mesher::SurfaceDelta removal{0, 0, true, {}, {}, {}};
-  for (const mesher::SurfaceFace& face : stretch.added) removal.removed.push_back(face.key);
-  map.apply(removal, {});
-  expectSame(rest, "the stretch removed");
+  map.apply(deltaOf(stretch, false), {});
+  expectLayersMatch(map, layersByKey(faces, profile, poses), "the stretch added");
+  map.apply(deltaOf(stretch, true), {});
+  expectLayersMatch(map, layersByKey(rest, profile, poses), "the stretch removed");
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #pragma once
 // Hand-made faces as the mesher reports them, and their layers, for the evidence tests.
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -110,6 +112,34 @@ inline std::vector<FaceClass> floorClassesAt(const mesher::TriangleMesh& mesh, s
     if (std::abs(c.x() - x) < 0.025 && std::abs(c.y() - y) < 0.025) out.push_back(layers[f].face_class);
   }
   return out;
+}
+
+/// A hand-made delta that adds `faces`, or removes them.
+inline mesher::SurfaceDelta deltaOf(const std::vector<mesher::SurfaceFace>& faces, bool remove) {
+  mesher::SurfaceDelta delta{0, 0, true, {}, {}, {}};
+  for (const mesher::SurfaceFace& face : faces) {
+    if (remove) {
+      delta.removed.push_back(face.key);
+    } else {
+      delta.added.push_back(face);
+    }
+  }
+  return delta;
+}
+
+/// Expects the layers `map` keeps current to equal a full computation's (`full`, by key): evidence,
+/// class, contact and reasons.
+inline void expectLayersMatch(const TraversabilityMap& map, const std::map<mesher::FaceKey, FaceLayers>& full,
+                              const char* what) {
+  const std::map<mesher::FaceKey, FaceLayers> incremental = layersByKey(map);
+  ASSERT_EQ(incremental.size(), full.size()) << what;
+  for (const auto& [key, want] : full) {
+    const FaceLayers& got = incremental.at(key);
+    EXPECT_EQ(got.evidence, want.evidence) << what;
+    EXPECT_EQ(got.face_class, want.face_class) << what;
+    EXPECT_EQ(got.contact, want.contact) << what;
+    EXPECT_EQ(got.reasons, want.reasons) << what;
+  }
 }
 
 }  // namespace terramesh::traversability

@@ -191,7 +191,7 @@ struct FoldedFloor {
   }
   /// Whether floor face f lies over the fold: it holds a point of the fold's inside.
   bool overFold(std::size_t f) const {
-    for (const Eigen::Vector2d p : {Eigen::Vector2d(0.7, 0.05), Eigen::Vector2d(0.7, -0.05)}) {
+    for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.7, 0.05), Eigen::Vector2d(0.7, -0.05)}) {
       if (distanceToFace(floor, f, p) == 0.0) return true;
     }
     return false;

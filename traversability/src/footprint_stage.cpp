@@ -99,7 +99,8 @@ void FootprintStage::update(SurfaceStore& store, StageChanges& changes) {
       const double distance = distanceToTriangle(c.head<2>(), p);
       if ((distance <= reach && computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) ||
           (change.driven && distance <= box &&
-           computer_.readsDrivenGround(store.face(s), window_[s], change.bounds, distance))) {
+           computer_.readsDrivenGround(store.face(s), window_[s], change.bounds, distance)) ||
+          computer_.readsColumns(store.face(s), change.sampleable, distance)) {
         markDirty(s, dirty);
       }
     });

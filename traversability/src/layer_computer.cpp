@@ -30,6 +30,10 @@ constexpr char kSteepGround = 1;
 constexpr char kLevelGround = 2;
 /// No measured ground in the sample's band, but closing (Steiner) geometry: nobody looked there.
 constexpr char kUnknownGround = 3;
+/// No ground in the sample's band, and its reference point lies in space nobody carved: the first
+/// face above it faces up (matter the rays never reached), or none does (beyond the map). The
+/// surface is closed, so space the rays carved lies under a face that faces down.
+constexpr char kNoDataGround = 4;
 
 /// floor and ceil of a double known to lie well within the int range (std::floor is a library
 /// call without SSE4.1).
@@ -264,6 +268,29 @@ void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3
       }
     }
   }
+  if (driven_only) markUnseenColumns(store, c);
+}
+
+void LayerComputer::markUnseenColumns(const SurfaceStore& store, const Eigen::Vector3d& c) const {
+  for (std::size_t k = 0; k < offsets_.size(); ++k) {
+    if (level_[k] != kNoGround) continue;
+    const double x = c.x() + offsets_[k].x(), y = c.y() + offsets_[k].y();
+    // The first face over the sample's reference height: facing down, it is the lid over space the
+    // rays carved (a hole or a drop, ground missing); facing up, the sample lies in matter nobody
+    // carved; none, beyond the map.
+    double first_z = std::numeric_limits<double>::infinity();
+    bool carved = false;
+    store.forEachAt(x, y, [&](Slot u) {
+      if (!store.bounds(u).alive) return;
+      const SampleGeometry& g = store.geometry(u);
+      if (!g.sampleable) return;
+      const std::optional<double> z = g.heightAt(x, y);
+      if (!z || *z <= ref_[k] || *z >= first_z) return;
+      first_z = *z;
+      carved = g.normal_z < 0;
+    });
+    if (!carved) level_[k] = kNoDataGround;
+  }
 }
 
 void LayerComputer::prepareSamples(const Eigen::Vector3d& c, bool steep) const {
@@ -272,7 +299,7 @@ void LayerComputer::prepareSamples(const Eigen::Vector3d& c, bool steep) const {
   terms_.resize(offsets_.size());
   for (std::size_t i = 0; i < offsets_.size(); ++i) {
     SampleTerms& t = terms_[i];
-    t.flags = level_[i] == kUnknownGround ? kUnknown : 0;
+    t.flags = level_[i] == kUnknownGround ? kUnknown : level_[i] == kNoDataGround ? kUnknown | kNoData : 0;
     if (std::isnan(z_[i])) continue;
     t.dz = z_[i] - c.z();
     t.x_dz = offsets_[i].x() * t.dz;
@@ -311,10 +338,11 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   double sum_sq = all_plane.z() * all_plane.z(), step_min = -level_plane.z(), step_max = -level_plane.z();
   // The same range with every height off by the relief its face may hide (the worst case).
   double worst_min = step_min - own_relief_m, worst_max = step_max + own_relief_m;
-  int n = 1, supported = 0, unknown = 0, supported_worst = 0;
+  int n = 1, supported = 0, unknown = 0, no_data = 0, supported_worst = 0;
   for (int i : samples) {
     const SampleTerms& t = terms_[static_cast<std::size_t>(i)];
     unknown += (t.flags & kUnknown) ? 1 : 0;
+    no_data += (t.flags & kNoData) ? 1 : 0;
     if (!(t.flags & kFound)) continue;
     const Eigen::Vector2d& o = offsets_[static_cast<std::size_t>(i)];
     const double dz = t.dz;
@@ -333,15 +361,16 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   out.step_m = step_max - step_min;
   // Support over the known samples (unknown ones neither support nor fail to), but over at least
   // kMinKnownSampleFraction of the footprint: a footprint mostly over unknown is not supported.
-  const double total = static_cast<double>(samples.size());
-  // (On driven ground the robot stood there: the drive supports the part nobody measured.)
-  const double known = driven ? total - unknown : std::max(total - unknown, kMinKnownSampleFraction * total);
+  // On driven ground the robot stood there: the drive supports the part nobody measured beside
+  // it, so the footprint is what remains, but not the part beyond the map (no_data: where the
+  // drive began, the footprint of a face behind the first pose reaches where nobody was).
+  const double total = static_cast<double>(samples.size()) - (driven ? unknown - no_data : 0);
+  const double known = std::max(total - (driven ? no_data : unknown), kMinKnownSampleFraction * total);
   out.contact = known > 0 ? std::min(1.0, static_cast<double>(supported) / known) : 0.0;
   const RobotProfile& p = profile_;
   out.fits = out.step_m <= p.max_step_m && out.roughness_m <= p.max_roughness_m && out.contact >= p.min_support;
   // The worst case: unknown samples count as unsupported, over the whole footprint.
-  const double worst_over = driven ? known : total;
-  const double contact_worst = worst_over > 0 ? std::min(1.0, static_cast<double>(supported_worst) / worst_over) : 0.0;
+  const double contact_worst = total > 0 ? std::min(1.0, static_cast<double>(supported_worst) / total) : 0.0;
   out.fits_worst = out.fits && worst_max - worst_min <= p.max_step_m && contact_worst >= p.min_support;
   const auto ratio = [](double value, double limit) {
     return limit > 0 ? value / limit : (value > 0 ? std::numeric_limits<double>::infinity() : 0.0);
@@ -440,24 +469,6 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
   if (!driven) collectUnconfirmed(store.face(s), ref_a, ref_b);
 }
 
-bool LayerComputer::overDrivenGround(const SurfaceStore& store, const Eigen::Vector2d* corners, int n,
-                                     const Eigen::Vector3d& c, double z_lo, double z_hi) const {
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2d p = c.head<2>() + corners[i];
-    bool found = false;
-    store.forEachAt(p.x(), p.y(), [&](Slot u) {
-      if (found) return;
-      const FaceBounds& b = store.bounds(u);
-      if (!b.alive || b.max_z < z_lo || b.min_z > z_hi) return;
-      const SampleGeometry& g = store.geometry(u);
-      if (!g.sampleable || !g.driven) return;
-      found = g.heightAt(p.x(), p.y()).has_value();
-    });
-    if (!found) return false;
-  }
-  return true;
-}
-
 void LayerComputer::computeClearance(SurfaceStore& store, Slot s, bool driven) const {
   StoredFace& f = store.face(s);
   FaceLayers& layers = f.layers;
@@ -515,7 +526,7 @@ void LayerComputer::computeLocal(SurfaceStore& store, Slot s) const {
   sampleGround(store, c, driven);
   int found_samples = 0, level_samples = 0;
   for (std::size_t i = 0; i < count; ++i) {
-    if (level_[i] == kNoGround || level_[i] == kUnknownGround) continue;
+    if (level_[i] == kNoGround || level_[i] == kUnknownGround || level_[i] == kNoDataGround) continue;
     ++found_samples;
     level_samples += level_[i] == kLevelGround ? 1 : 0;
   }

@@ -181,6 +181,13 @@ class LayerComputer {
            distance_m <= std::sqrt(2.0) * w.obstacle_reach_m * (1 + 1e-9) + 1e-6;
   }
 
+  /// Whether face t (whether heightAt can sample it; `distance_m` as for mayAffect) can decide for
+  /// a driven face whether a footprint sample lies in carved space (markUnseenColumns): at any
+  /// height.
+  bool readsColumns(const StoredFace& face, bool t_sampleable, double distance_m) const {
+    return face.layers.evidence == Evidence::kDriven && t_sampleable && distance_m <= radius_m_ * (1 + 1e-9) + 1e-6;
+  }
+
   /// Whether a face can be an obstacle inside a footprint (computeLocal's filter before its height
   /// window): not ground (steeper than max_slope, vertical or facing down). Measured faces are
   /// obstacles; interpolated ones (closing geometry, unobserved spans) only possible obstacles.
@@ -351,6 +358,9 @@ class LayerComputer {
   /// With `driven_only` (a driven face: the robot stood there, its footprint on driven ground),
   /// only driven faces are ground; elsewhere the samples are unknown, not missing.
   void sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c, bool driven_only) const;
+  /// Marks the samples with no ground whose reference point lies in space nobody carved: no face
+  /// above it in its column, or the first one faces up (kNoDataGround).
+  void markUnseenColumns(const SurfaceStore& store, const Eigen::Vector3d& c) const;
   /// Fills terms_ from the sampled ground (z_, ref_) of the face with centroid c.
   void prepareSamples(const Eigen::Vector3d& c, bool steep) const;
   /// Judges the footprint made of `samples` (indices in offsets_) from the sampled ground (terms_);
@@ -402,6 +412,7 @@ class LayerComputer {
   static constexpr char kSupported = 4;  ///< ... within max_step + contact_tolerance of the plane
   static constexpr char kUnknown = 8;    ///< no measured ground, only Steiner faces, in its band
   static constexpr char kSupportedWorst = 16;  ///< ... supported even off by its face's relief
+  static constexpr char kNoData = 32;  ///< unknown: in space nobody carved (driven faces only)
   /// Contact is the supported share of the known samples, but of at least this share of all
   /// samples: a footprint over more unknown than this counts the excess as unsupported.
   static constexpr double kMinKnownSampleFraction = 0.5;

@@ -457,4 +457,22 @@ int LayerComputer::obstaclePoints(const StoredFace& f, bool steep, std::array<Ei
   return n;
 }
 
+bool LayerComputer::overDrivenGround(const SurfaceStore& store, const Eigen::Vector2d* corners, int n,
+                                     const Eigen::Vector3d& c, double z_lo, double z_hi) const {
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d p = c.head<2>() + corners[i];
+    bool found = false;
+    store.forEachAt(p.x(), p.y(), [&](Slot u) {
+      if (found) return;
+      const FaceBounds& b = store.bounds(u);
+      if (!b.alive || b.max_z < z_lo || b.min_z > z_hi) return;
+      const SampleGeometry& g = store.geometry(u);
+      if (!g.sampleable || !g.driven) return;
+      found = g.heightAt(p.x(), p.y()).has_value();
+    });
+    if (!found) return false;
+  }
+  return true;
+}
+
 }  // namespace terramesh::traversability::internal
