@@ -312,6 +312,10 @@ class LayerComputer {
   /// The same for `shape` (count points) in place of o's own polygon (o gives the strip's side).
   bool meetsShape(const Obstacle& o, const Eigen::Vector2d* shape, int count, std::size_t heading,
                   const Eigen::Vector2d& at, double margin_m) const;
+  /// Whether the footprint centred at `at` at heading k, grown by `margin_m`, meets `shape`
+  /// (count points), wherever the strip's sides lie.
+  bool footprintMeets(const Eigen::Vector2d* shape, int count, std::size_t heading, const Eigen::Vector2d& at,
+                      double margin_m) const;
 
   /// Whether every corner p[0..n) (relative to the centroid c) lies over driven ground within the
   /// height window [z_lo, z_hi].

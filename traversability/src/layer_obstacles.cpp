@@ -330,11 +330,16 @@ bool LayerComputer::meetsShape(const Obstacle& shadow, const Eigen::Vector2d* sh
                               : 0.5 * profile_.footprint_length_m * std::abs(n.dot(heading_axes_[heading].first)) +
                                     0.5 * profile_.footprint_width_m * std::abs(n.dot(heading_axes_[heading].second));
     if (!(n.dot(at) + extent > shadow.side_offset + kSweptSideToleranceM)) return false;
-    // Its extension reaches only the footprint's part beyond the side (the drive swept the rest).
-    if ((margin_m > 0 || shape != shadow.p.data()) && !beyondSideWithin(shadow, shape, count, heading, at, margin_m)) {
-      return false;
-    }
   }
+  if (!footprintMeets(shape, count, heading, at, margin_m)) return false;
+  // Beyond the strip, its extension reaches only the footprint's part beyond the side (the drive
+  // swept the rest): the dearer test, so the last.
+  return !shadow.beyond_strip || (!(margin_m > 0) && shape == shadow.p.data()) ||
+         beyondSideWithin(shadow, shape, count, heading, at, margin_m);
+}
+
+bool LayerComputer::footprintMeets(const Eigen::Vector2d* shape, int count, std::size_t heading,
+                                   const Eigen::Vector2d& at, double margin_m) const {
   // The shape relative to the footprint's centre `at`.
   std::array<Eigen::Vector2d, kMaxObstacleCorners> rel;
   const int n = std::min(count, kMaxObstacleCorners);
