@@ -202,7 +202,9 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   if (o.checkpoint_every > 0 && !resumed_) state_.stream_fingerprint = streamFingerprint(stream_);
   state_.trajectory_evidence = evidence_.settings();
   mesher_.emplace(resumed_ ? std::move(resumed_->mesher) : mesher::Mesher(config_));
-  if (traversability_ && evidence_.enabled()) traversability_->setDrivePoses(evidence_.drivePoses());
+  if (traversability_ && evidence_.enabled()) {
+    traversability_->setDrivePoses(evidence_.drivePoses(), evidence_.sensorHeightM());
+  }
   // The poses first: the layers read where the robot faced on its driven samples.
   if (resumed_) evidence_.replay(stream_, state_.next_event);
   if (traversability_ && resumed_) traversability_->resume(*mesher_, state_.keyframes);

@@ -78,9 +78,11 @@ class TraversabilitySession {
   /// Final update and export; appends a few summary lines.
   void finish(const mesher::Mesher& mesher, std::ostream& summary);
 
-  /// Where the robot stood on the driven-ground samples (TraversabilityMap::setDrivePoses); set
-  /// before the first event.
-  void setDrivePoses(traversability::DrivePoseLookup lookup) { map_->setDrivePoses(std::move(lookup)); }
+  /// Where the robot stood on the driven-ground samples and how high its sensor rode
+  /// (TraversabilityMap::setDrivePoses); set before the first event.
+  void setDrivePoses(traversability::DrivePoseLookup lookup, double sensor_height_m) {
+    map_->setDrivePoses(std::move(lookup), sensor_height_m);
+  }
   /// Called after every export with the map just written and the mesher revision it holds (e.g.
   /// a tile's owned part written elsewhere, mesh --tile).
   using ExportHook = std::function<void(const traversability::LayeredMesh& map, std::uint64_t revision)>;

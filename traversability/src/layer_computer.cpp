@@ -145,6 +145,7 @@ LayerComputer::LayerComputer(const RobotProfile& profile)
     k_ = std::max(k_, ceilInt(kSamplesPerWidth * radius_m_ / narrow - 1e-9));
   }
   spacing_m_ = radius_m_ / k_;
+  setDriveSensorHeight(std::nullopt);
   for (int i = -k_; i <= k_; ++i) {
     for (int j = -k_; j <= k_; ++j) {
       const bool inside = i * i + j * j <= k_ * k_;
@@ -186,6 +187,10 @@ void LayerComputer::addHeading(double theta) const {
     }
   }
   heading_samples_.push_back(std::move(inside));
+}
+
+void LayerComputer::setDriveSensorHeight(std::optional<double> height_m) {
+  interpolated_top_m_ = height_m ? std::min(*height_m, profile_.min_clearance_m) : profile_.min_clearance_m;
 }
 
 void LayerComputer::setDriveHeading(const StoredFace& f) const {
@@ -444,13 +449,15 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
       // still count: an obstacle placed later (a parked car) stands on the road with vertical
       // sides, where its points support them (collectSupportedParts); beyond the strip, what they
       // support may extend as anywhere, but not into the strip. Elsewhere a face anchored on
-      // driven ground is only a possible obstacle.
+      // driven ground is only a possible obstacle. Interpolated geometry beyond the strip counts
+      // up to the drive's sensor only (setDriveSensorHeight): no ray looked higher.
       const bool anchored = driven && tg.touches_driven;
       const bool slanted = driven && !anchored && tg.normal_z > kMaxBridgeNormalZ;
       const bool unmeasured = driven && !anchored && tg.interpolated;
       if (driven && !anchored && !slanted && !tg.interpolated) {
         collectSupportedParts(store.face(s), tg, c, ref_a, ref_b);
-      } else if (!anchored && clipToBody(tg, c, ref_a, ref_b, o)) {
+      } else if (!anchored &&
+                 clipToBody(tg, c, ref_a, ref_b, unmeasured ? interpolated_top_m_ : profile_.min_clearance_m, o)) {
         o.possible = tg.interpolated || tg.touches_driven;
         if (!o.possible) setExtension(o, tg, c);
         if (slanted || unmeasured) {

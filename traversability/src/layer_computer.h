@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -75,6 +76,11 @@ class LayerComputer {
   /// obstacle of radius EvidenceModel::unconfirmed_point_extension_m that nobody confirmed (a rock
   /// seen from one keyframe). Kept by the caller, which must outlive this computer's use of it.
   void setUnconfirmedPoints(const UnconfirmedPoints* points) { unconfirmed_ = points; }
+  /// The drive's sensor above the ground contact plane, metres (nullopt: unknown). Over driven
+  /// ground, interpolated geometry counts only up to it: beside the strip no ray looks higher
+  /// (rays run from the sensor down to the ground), so a lid there is where the carving stopped,
+  /// not a sign that anything stands in the body; what stands on the ground shows below it.
+  void setDriveSensorHeight(std::optional<double> height_m);
   /// Horizontal reach of an unconfirmed point: a face whose projection is farther from it cannot
   /// meet it (a robot may stand anywhere on a face).
   double unconfirmedReachM() const { return footprintReachM(profile_.evidence.unconfirmed_point_extension_m); }
@@ -282,8 +288,10 @@ class LayerComputer {
     double side_offset = 0;
   };
   /// Clips face t (its sampling geometry) to the body of the face with centroid c and reference
-  /// plane slopes (ref_a, ref_b); false if no part of it lies there.
-  bool clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b, Obstacle& out) const;
+  /// plane slopes (ref_a, ref_b), up to `top_m` over that plane (at most min_clearance_m); false
+  /// if no part of it lies there.
+  bool clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b, double top_m,
+                  Obstacle& out) const;
   /// Over driven ground: the parts of face `t` inside the body that its measured vertices above
   /// the ground (higher than max_step_m over the reference plane) support, as measured obstacles:
   /// the corner triangles within evidence.obstacle_support_m of each such vertex along its edges.
@@ -456,6 +464,8 @@ class LayerComputer {
   mutable std::vector<std::size_t> fitting_possible_;
   mutable std::vector<Slot> neighbours_;
   const UnconfirmedPoints* unconfirmed_ = nullptr;
+  /// How high interpolated geometry counts over driven ground (setDriveSensorHeight).
+  double interpolated_top_m_ = 0;
 };
 
 }  // namespace terramesh::traversability::internal

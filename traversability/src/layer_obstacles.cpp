@@ -70,7 +70,7 @@ bool withinDistance(const Eigen::Vector2d* a, int na, const Eigen::Vector2d* b, 
 }  // namespace
 
 bool LayerComputer::clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a, double ref_b,
-                               Obstacle& out) const {
+                               double top_m, Obstacle& out) const {
   // Corners relative to the centroid: (x, y, height above the reference plane).
   using Corner = Eigen::Vector3d;
   const auto corner = [&](double x, double y, double z) {
@@ -95,7 +95,7 @@ bool LayerComputer::clipToBody(const SampleGeometry& t, const Eigen::Vector3d& c
     }
     return m;
   };
-  const double lo = profile_.max_step_m, hi = profile_.min_clearance_m;
+  const double lo = profile_.max_step_m, hi = std::min(top_m, profile_.min_clearance_m);
   n = clip(a, n, b, lo, 1.0);
   n = clip(b, n, a, hi, -1.0);
   if (n == 0) return false;
@@ -137,7 +137,7 @@ void LayerComputer::collectSupportedParts(const StoredFace& f, const SampleGeome
     corner.cy = d2.y() - a.y();
     corner.z2 = d2.z();
     Obstacle o;
-    if (!clipToBody(corner, c, ref_a, ref_b, o)) continue;
+    if (!clipToBody(corner, c, ref_a, ref_b, profile_.min_clearance_m, o)) continue;
     o.possible = false;
     setExtension(o, t, c);
     // Beyond the strip the body swept it may extend as anywhere; its extension into the strip is

@@ -90,7 +90,10 @@ class TraversabilityMap::Impl {
     return changed;
   }
   std::size_t unconfirmedCount() const { return footprint_->unconfirmedCount(); }
-  void setDrivePoses(DrivePoseLookup lookup) { drive_poses_ = std::move(lookup); }
+  void setDrivePoses(DrivePoseLookup lookup, std::optional<double> sensor_height_m) {
+    drive_poses_ = std::move(lookup);
+    computer_.setDriveSensorHeight(sensor_height_m);
+  }
 
   LayerUpdateStats reset(const std::vector<mesher::SurfaceFace>& faces) {
     const auto start = std::chrono::steady_clock::now();
@@ -305,7 +308,9 @@ LayerUpdateStats TraversabilityMap::setUnconfirmedPoints(const std::vector<meshe
   return stats;
 }
 LayeredMesh TraversabilityMap::snapshot() const { return impl_->snapshot(); }
-void TraversabilityMap::setDrivePoses(DrivePoseLookup lookup) { impl_->setDrivePoses(std::move(lookup)); }
+void TraversabilityMap::setDrivePoses(DrivePoseLookup lookup, std::optional<double> sensor_height_m) {
+  impl_->setDrivePoses(std::move(lookup), sensor_height_m);
+}
 std::size_t TraversabilityMap::faceCount() const { return impl_->faceCount(); }
 const RobotProfile& TraversabilityMap::profile() const { return impl_->profile(); }
 const MapFrame& TraversabilityMap::frame() const { return impl_->frame(); }

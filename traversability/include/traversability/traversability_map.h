@@ -103,8 +103,11 @@ class TraversabilityMap {
   /// its radius, on each side of that line), not beyond it; and a rectangle is also judged turned
   /// along the drive, besides the profile's contact_headings. Read when a face is added: set it
   /// before the first update (or reset() after). Without it, every obstacle over driven ground
-  /// counts as swept.
-  void setDrivePoses(DrivePoseLookup lookup);
+  /// counts as swept. `sensor_height_m`, the drive's sensor above the ground contact plane (the
+  /// height the samples use), bounds the body that interpolated geometry beside the strip can
+  /// reach: no ray looks above the sensor there (LayerComputer::setDriveSensorHeight). Without it,
+  /// that geometry counts up to min_clearance_m.
+  void setDrivePoses(DrivePoseLookup lookup, std::optional<double> sensor_height_m = std::nullopt);
 
   /// Layers of a finished mesh (e.g. read from PLY). Faces touching a vertex flagged in
   /// `mesh.is_steiner` are unmeasured; without the flags every face counts as measured. Faces take
