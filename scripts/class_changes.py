@@ -6,8 +6,8 @@ Usage: class_changes.py BEFORE_DIR AFTER_DIR
 Both directories are `terramesh mesh --robot` (or `traverse`) outputs of the same input, so their
 traversability.ply hold the same faces in the same order; anything else (other vertices or faces)
 is an input error. Prints the number of faces, the faces whose class (free, lethal, unknown,
-uncertain) changed, one line per change (before -> after: count, area in m^2 with the header's
-frame.metres_per_unit from mesh.ply, how many of them are driven), and how many faces' contact
+uncertain) changed, one line per change (before -> after: count, area in m^2 with map_frame.yaml's
+metres_per_unit, how many of them are driven), and how many faces' contact
 layer changed. Exit 0 either way (a diagnostic, not a check). python3 + numpy.
 """
 import os
@@ -18,6 +18,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
 import ply  # noqa: E402
 from common import InputError, run_main  # noqa: E402
+from traversability_figures import read_frame  # noqa: E402
 
 CLASSES = ("free", "lethal", "unknown", "uncertain")
 DRIVEN = 1
@@ -34,13 +35,7 @@ def read_map(map_dir):
     for layer in ("lethal", "unknown", "uncertain", "contact", "evidence"):
         if layer not in face:
             raise InputError(path, "face", f"expected a '{layer}' property (a traversability map)")
-    scale = 1.0
-    mesh_path = os.path.join(map_dir, "mesh.ply")
-    if os.path.isfile(mesh_path):
-        for text in ply.comments(mesh_path):
-            fields = text.split()
-            if len(fields) == 2 and fields[0] == "frame.metres_per_unit":
-                scale = float(fields[1])
+    scale = read_frame(os.path.join(map_dir, "map_frame.yaml"))[3]
     vertices = np.stack([vertex["x"], vertex["y"], vertex["z"]], 1).astype(float)
     return vertices, np.asarray(face["vertex_indices"]), face, scale
 

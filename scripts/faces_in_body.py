@@ -5,10 +5,10 @@ Usage: faces_in_body.py MAP_DIR X Y
 
 MAP_DIR is a `terramesh mesh --robot` output: traversability.ply (the faces and their layers),
 trajectory.csv (the keyframes' camera centres), robot.yaml (the footprint, max_step_m and
-min_clearance_m) and mesh.ply (its header's frame.up, frame.metres_per_unit and
-frame.sensor_height_m). X Y are horizontal coordinates, in metres, of a point in the level frame
-(the map frame turned so that up is +z, scaled to metres: for the generated scenes, the map frame's
-x and y); the face whose centroid lies nearest it is judged. Its footprint is centred on its centroid and,
+min_clearance_m), map_frame.yaml (up, plan axes, metres per unit) and mesh.ply (its header's
+frame.sensor_height_m). X Y are map-plane coordinates in metres, as the Nav2 maps and the figures
+use them (plan_x . p, plan_y . p times metres_per_unit: for the generated scenes, the map frame's x
+and y); the face whose centroid lies nearest that point is judged. Its footprint is centred on its centroid and,
 for a rectangle, turned along the camera path's nearest segment (a driven face's drive heading),
 and sampled on a 0.05 m grid. Prints that face's class, reasons and offset from the path (left of
 the direction of travel is positive), then every other face whose surface over a sample lies
@@ -31,6 +31,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures"))
 import ply  # noqa: E402
 from common import InputError, require_file, run_main  # noqa: E402
+from traversability_figures import read_frame  # noqa: E402
 
 GRID_M = 0.05
 EVIDENCE = {0: "measured", 1: "driven", 2: "interpolated"}
@@ -40,7 +41,7 @@ REASONS = ("too_steep no_heading_fits low_clearance guessed_wall possible_step s
 
 
 def header_value(path, key):
-    """A float from a `comment KEY VALUE...` line of the PLY header at `path` (None if absent)."""
+    """The numbers of a `comment KEY VALUE...` line of the PLY header at `path` (None if absent)."""
     for text in ply.comments(path):
         fields = text.split()
         if fields and fields[0] == key:
@@ -69,18 +70,6 @@ def read_profile(path):
     else:
         footprint = (number("length_m"), number("width_m"))
     return footprint, number("max_step_m"), number("min_clearance_m")
-
-
-def level_rotation(up):
-    """A rotation taking `up` to +z (Rodrigues)."""
-    up = np.asarray(up, float) / np.linalg.norm(up)
-    z = np.array([0.0, 0.0, 1.0])
-    v = np.cross(up, z)
-    c = float(up @ z)
-    if np.linalg.norm(v) < 1e-12:
-        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
-    k = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
-    return np.eye(3) + k + k @ k * ((1 - c) / (v @ v))
 
 
 def read_path(path):
@@ -116,7 +105,7 @@ def samples(centre, heading, footprint):
 
 
 def heights_over(triangle, points):
-    """Height of `triangle` (3x3, level frame) over each 2-D point, NaN outside its projection."""
+    """Height of `triangle` (3x3: plan x, plan y, height) over each 2-D point, NaN outside its projection."""
     a, b, c = triangle
     v0, v1 = b[:2] - a[:2], c[:2] - a[:2]
     det = v0[0] * v1[1] - v0[1] * v1[0]
@@ -151,11 +140,10 @@ def main():
     require_file(mesh_path)
     elements = ply.read(layers_path)
     vertex, face = elements["vertex"], elements["face"]
-    up = header_value(mesh_path, "frame.up") or [0.0, 0.0, 1.0]
-    scale = (header_value(mesh_path, "frame.metres_per_unit") or [1.0])[0]
+    up, plan_x, plan_y, scale = read_frame(os.path.join(map_dir, "map_frame.yaml"))
     sensor = header_value(mesh_path, "frame.sensor_height_m")
     footprint, max_step, clearance = read_profile(os.path.join(map_dir, "robot.yaml"))
-    rotation = level_rotation(up)
+    rotation = np.stack([plan_x, plan_y, up])  # map frame -> (plan x, plan y, height)
     vertices = np.stack([vertex["x"], vertex["y"], vertex["z"]], 1).astype(float)
     triangles = (vertices[np.asarray(face["vertex_indices"])] @ rotation.T) * scale
     path = (read_path(os.path.join(map_dir, "trajectory.csv")) @ rotation.T) * scale
@@ -180,7 +168,7 @@ def main():
         return (p - starts[nearest]) @ left
 
     names = [n for j, n in enumerate(REASONS) if int(face["reasons"][target]) >> j & 1]
-    print(f"face {target}: centroid ({centre[0]:.2f}, {centre[1]:.2f}, {centre[2]:.2f}) m (level frame), "
+    print(f"face {target}: centroid ({centre[0]:.2f}, {centre[1]:.2f}) m on the map plane, {centre[2]:.2f} m up, "
           f"{face_class(face, target)}, evidence {EVIDENCE.get(int(face['evidence'][target]), '?')}, "
           f"reasons {','.join(names) or '-'}, {offset(centre[:2]):+.2f} m from the path")
     shape = f"{footprint[0]} x {footprint[1]} m turned along the path" if footprint[1] else f"radius {footprint[0]} m"
