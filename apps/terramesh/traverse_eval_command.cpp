@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "common/atomic_file.h"
 #include "common/input_error.h"
+#include "common/plan_frame.h"
 #include "datasets/labeled_mesh.h"
 #include "datasets/similarity_transform.h"
 #include "datasets/stream_reader.h"
@@ -161,45 +162,65 @@ std::vector<std::uint8_t> lethalCauses(const traversability::LayeredMesh& map,
   return groups;
 }
 
-/// The x, y, z columns of a path.csv (terramesh plan): a header line naming x, y and z first, then
-/// one finite point per line.
+/// The x, y, z (and yaw) columns of a path.csv of terramesh plan.
+struct PathCsv {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> yaws;  ///< radians, when `with_yaw`
+};
+
+/// A path.csv: a header line naming x, y and z first (and yaw fourth, when `with_yaw`), then one
+/// finite point per line.
 /// @throw InputError naming the file and line.
-std::vector<Eigen::Vector3d> readPathCsv(const std::string& file) {
+PathCsv readPathCsv(const std::string& file, bool with_yaw) {
   std::ifstream in(file);
   if (!in) throw InputError(file, "file", "cannot open the path");
   std::string line;
-  if (!std::getline(in, line) || line.rfind("x,y,z", 0) != 0) {
-    throw InputError(file, lineLocation(1), "expected the header x,y,z,... of terramesh plan's path.csv");
+  const std::string header = with_yaw ? "x,y,z,yaw" : "x,y,z";
+  if (!std::getline(in, line) || line.rfind(header, 0) != 0) {
+    const std::string why = with_yaw ? " (the robot keeps its own heading: motion_model omni)" : "";
+    throw InputError(file, lineLocation(1),
+                     "expected the header " + header + ",... of terramesh plan's path.csv" + why);
   }
-  std::vector<Eigen::Vector3d> path;
+  PathCsv path;
   for (std::size_t number = 2; std::getline(in, line); ++number) {
     if (line.empty()) continue;
     Eigen::Vector3d p;
-    char a = 0, b = 0;
+    double yaw = 0;
+    char a = 0, b = 0, c = ',';
     std::istringstream fields(line);
-    if (!(fields >> p.x() >> a >> p.y() >> b >> p.z()) || a != ',' || b != ',' || !p.allFinite()) {
-      throw InputError(file, lineLocation(number), "expected x,y,z as three finite numbers, got \"" + line + "\"");
+    const bool read = (fields >> p.x() >> a >> p.y() >> b >> p.z()) && (!with_yaw || (fields >> c >> yaw));
+    if (!read || a != ',' || b != ',' || c != ',' || !p.allFinite() || !std::isfinite(yaw)) {
+      throw InputError(file, lineLocation(number), "expected " + header + " as " + (with_yaw ? "four" : "three") +
+                                                       " finite numbers, got \"" + line + "\"");
     }
-    path.push_back(p);
+    path.points.push_back(p);
+    if (with_yaw) path.yaws.push_back(yaw);
   }
   return path;
 }
 
 /// Planned paths against the truth (the map's robot, strict check), in the truth's frame: per path,
-/// "path_valid FILE 0|1", "path_max_ground_offset_m FILE M" and "path_reason FILE TEXT".
+/// "path_valid FILE 0|1", "path_max_ground_offset_m FILE M" and "path_reason FILE TEXT". A
+/// rectangle that keeps its own heading (motion_model omni) is checked at the path's yaw, about
+/// the map's `map_up` in planning's heading frame (geometry::headingFrameRule).
 void checkPaths(const std::vector<std::string>& files, const datasets::SimilarityTransform* sim3,
-                const datasets::LabeledMesh& truth, const Eigen::Vector3d& up,
+                const datasets::LabeledMesh& truth, const Eigen::Vector3d& up, const Eigen::Vector3d& map_up,
                 const traversability::RobotProfile& profile, std::ostream& report) {
   const evaluation::TruthCheckConfig config = evaluation::truthCheckConfigFrom(profile);
   const datasets::TriangleBvh bvh(truth.mesh);
   const evaluation::TruthChecker checker(truth, bvh);
   std::size_t valid = 0;
   for (const std::string& file : files) {
-    std::vector<Eigen::Vector3d> path = readPathCsv(file);
-    if (sim3) {
-      for (Eigen::Vector3d& p : path) p = sim3->apply(p);
+    PathCsv path = readPathCsv(file, config.own_heading);
+    std::vector<Eigen::Vector3d> body;
+    for (const double yaw : path.yaws) {
+      const Eigen::Vector3d heading = geometry::headingDirection(yaw, map_up.normalized());
+      body.push_back(sim3 ? Eigen::Vector3d(sim3->rotation * heading) : heading);
     }
-    const evaluation::TruthCheck check = checker.check(path, up, 1.0, config);
+    if (sim3) {
+      for (Eigen::Vector3d& p : path.points) p = sim3->apply(p);
+    }
+    const evaluation::TruthCheck check = checker.check(path.points, up, 1.0, config, body);
     valid += check.valid ? 1 : 0;
     report << "path_valid " << file << ' ' << (check.valid ? 1 : 0) << '\n'
            << "path_max_ground_offset_m " << file << ' ' << fixed(check.max_ground_offset_m, 3) << '\n'
@@ -287,7 +308,7 @@ evaluation::GroundTruthTraversability evaluateAgainstMesh(const TraverseEvalOpti
     reportAreas(report, "reason_" + std::string(evaluation::toString(static_cast<evaluation::TruthReason>(r))),
                 score.by_reason[r]);
   }
-  if (!options.paths.empty()) checkPaths(options.paths, sim3 ? &*sim3 : nullptr, truth, up, profile, report);
+  if (!options.paths.empty()) checkPaths(options.paths, sim3 ? &*sim3 : nullptr, truth, up, map.up_W, profile, report);
   return labelled;
 }
 

@@ -31,6 +31,11 @@ PlanFrameRule headingFrameRule() {
   return rule;
 }
 
+Eigen::Vector3d headingDirection(double yaw_rad, const Eigen::Vector3d& up) {
+  const PlanFrame frame = planFrame(up, headingFrameRule());
+  return std::cos(yaw_rad) * frame.e1 + std::sin(yaw_rad) * frame.e2;
+}
+
 PlanFrameRule acrossFrameRule() {
   PlanFrameRule rule;
   rule.first_axis = FirstAxis::kUpCrossHelper;

@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "common/plan_frame.h"
+
 namespace terramesh::evaluation {
 
 std::vector<PlannerTrials> runPathTrials(const std::vector<const planning::PathPlanner*>& planners,
@@ -14,6 +16,7 @@ std::vector<PlannerTrials> runPathTrials(const std::vector<const planning::PathP
   // Checked again by every check; here so that a bad config fails before any planning time is spent.
   if (truth.checker != nullptr) truth.config.validate();
   std::vector<PlannerTrials> out(planners.size());
+  const Eigen::Vector3d up = truth.up_W.normalized();
   for (const auto& [start, goal] : pairs) {
     for (std::size_t p = 0; p < planners.size(); ++p) {
       PlannerTrials& tally = out[p];
@@ -28,7 +31,11 @@ std::vector<PlannerTrials> runPathTrials(const std::vector<const planning::PathP
           tally.cost += r.cost;
           if (truth.checker != nullptr) {
             trial.checked = true;
-            trial.check = truth.checker->check(r.points(), truth.up_W, truth.metres_per_unit, truth.config);
+            std::vector<Eigen::Vector3d> body;  // the body's heading at each point, if it keeps its own
+            for (const planning::PathState& state : r.states) {
+              if (truth.config.own_heading) body.push_back(geometry::headingDirection(state.yaw_rad, up));
+            }
+            trial.check = truth.checker->check(r.points(), truth.up_W, truth.metres_per_unit, truth.config, body);
             ++tally.truth_checked;
             tally.truth_valid += trial.check.valid ? 1 : 0;
           }

@@ -91,6 +91,7 @@ TruthCheckConfig truthCheckConfigFrom(const traversability::RobotProfile& profil
   config.max_step_m = profile.max_step_m;
   config.min_clearance_m = profile.min_clearance_m;
   config.max_slope_deg = profile.max_slope_deg;
+  config.own_heading = config.rectangle() && profile.motion_model == traversability::MotionModel::kOmni;
   return config;
 }
 
@@ -142,7 +143,8 @@ TruthCheck checkAgainstTruth(const datasets::LabeledMesh& truth, const datasets:
 }
 
 TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W,
-                               double metres_per_unit, const TruthCheckConfig& config) const {
+                               double metres_per_unit, const TruthCheckConfig& config,
+                               const std::vector<Eigen::Vector3d>& body_headings_W) const {
   const datasets::LabeledMesh& truth = truth_;
   const datasets::TriangleBvh& bvh = bvh_;
   config.validate();
@@ -155,22 +157,41 @@ TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const
   TruthCheck check;
   const Eigen::Vector3d up = up_W.normalized();
   const double unit = 1.0 / metres_per_unit;  // map units per metre
-  std::vector<Eigen::Vector3d> samples;
+  const bool own_heading = config.rectangle() && !body_headings_W.empty();
+  std::vector<Eigen::Vector3d> body;  // the path's body headings, horizontal and unit
+  for (const Eigen::Vector3d& h : body_headings_W) {
+    const Eigen::Vector3d flat = h - h.dot(up) * up;
+    if (!(flat.norm() > 1e-9) || !flat.allFinite()) {
+      throw std::invalid_argument("TruthChecker::check: a body heading has no horizontal direction");
+    }
+    body.push_back(flat.normalized());
+  }
+  if (!body.empty() && body.size() != path_W.size()) {
+    throw std::invalid_argument("TruthChecker::check: " + std::to_string(body.size()) + " body headings for " +
+                                std::to_string(path_W.size()) + " path points");
+  }
+  std::vector<Eigen::Vector3d> samples, sample_headings;
   for (std::size_t i = 0; i + 1 < path_W.size(); ++i) {
     const Eigen::Vector3d& a = path_W[i];
     const Eigen::Vector3d& b = path_W[i + 1];
     const int steps =
         std::max(1, static_cast<int>(std::ceil((b - a).norm() * metres_per_unit / config.spacing_m)));
-    for (int s = 0; s < steps; ++s) samples.push_back(a + (b - a) * (static_cast<double>(s) / steps));
+    const double turn = own_heading ? internal::turnAngle(body[i], body[i + 1], up) : 0.0;
+    for (int s = 0; s < steps; ++s) {
+      samples.push_back(a + (b - a) * (static_cast<double>(s) / steps));
+      if (own_heading) sample_headings.push_back(internal::turned(body[i], up, turn * s / steps));
+    }
   }
   if (!path_W.empty()) samples.push_back(path_W.back());
+  if (own_heading && !path_W.empty()) sample_headings.push_back(body.back());
   check.samples = samples.size();
   if (samples.empty()) return check;
 
-  // The heading of travel at each sample (a rectangle's body turns with it).
+  // The heading of travel at each sample (a rectangle's body turns with it), or the body's own.
   const std::vector<Eigen::Vector3d> headings =
-      config.rectangle() ? internal::travelHeadings(samples, up, 0.5 * config.footprint_length_m * unit)
-                         : std::vector<Eigen::Vector3d>{};
+      own_heading ? sample_headings
+      : config.rectangle() ? internal::travelHeadings(samples, up, 0.5 * config.footprint_length_m * unit)
+                           : std::vector<Eigen::Vector3d>{};
   const std::string tolerance_note = " (tolerance " + metres(config.vertical_tolerance_m) +
                                      "; the path lies on our reconstructed surface, so this is also the "
                                      "reconstruction error there)";
@@ -213,7 +234,7 @@ TruthCheck TruthChecker::check(const std::vector<Eigen::Vector3d>& path_W, const
       const std::string body =
           headings.empty()
               ? discFailure(p, g, up, metres_per_unit, config)
-              : boxFailure(p, g, up, headings[i > 0 ? i - 1 : 0], headings[i], metres_per_unit, config);
+              : boxFailure(p, g, up, headings[i > 0 ? i - 1 : 0], headings[i], metres_per_unit, config, own_heading);
       if (!body.empty()) return fail(check, body);
     }
     // 5. Crossing the true surface between samples.
@@ -250,7 +271,7 @@ std::string TruthChecker::discFailure(const Eigen::Vector3d& p, const Eigen::Vec
 
 std::string TruthChecker::boxFailure(const Eigen::Vector3d& p, const Eigen::Vector3d& g, const Eigen::Vector3d& up,
                                      const Eigen::Vector3d& from, const Eigen::Vector3d& to, double metres_per_unit,
-                                     const TruthCheckConfig& config) const {
+                                     const TruthCheckConfig& config, bool own_heading) const {
   const double unit = 1.0 / metres_per_unit;
   internal::BodyBox box;
   box.base = g;
@@ -283,7 +304,8 @@ std::string TruthChecker::boxFailure(const Eigen::Vector3d& p, const Eigen::Vect
       }
       // Printed to 0.01 m: a point within rounding of the axis reads as ahead of and left of it.
       return "true " + label(truth_, face) + " face inside the " + metres(config.footprint_length_m) + " x " +
-             metres(config.footprint_width_m) + " footprint turned to the heading of travel" + turning + ": " +
+             metres(config.footprint_width_m) + " footprint turned to " +
+             (own_heading ? "the body's heading" : "the heading of travel") + turning + ": " +
              metres(std::abs(l.x())) + (l.x() > -0.005 ? " ahead of" : " behind") + " and " + metres(std::abs(l.y())) +
              (l.y() > -0.005 ? " left of" : " right of") + " the path at " + at(p) + ", " + metres(l.z()) +
              " above the true ground (body from " + metres(config.max_step_m) + " to " +

@@ -26,6 +26,9 @@ void WalkabilityConfig::validate() const {
   }
   if (!(unknown_cost >= 0 && unknown_cost <= 1)) problems << " unknown_cost: " << unknown_cost << " (expected in [0, 1]);";
   if (heading_count < 0 || heading_count > 32) problems << " heading_count: " << heading_count << " (expected in [0, 32]);";
+  if (!(turn_cost_m_per_rad >= 0) || !std::isfinite(turn_cost_m_per_rad)) {
+    problems << " turn_cost_m_per_rad: " << turn_cost_m_per_rad << " (expected >= 0);";
+  }
   const std::string text = problems.str();
   if (!text.empty()) throw std::invalid_argument("WalkabilityConfig:" + text);
 }
@@ -74,24 +77,47 @@ FaceGraph::FaceGraph(const traversability::LayeredMesh& map, const WalkabilityCo
 WalkabilityConfig walkabilityFor(const traversability::RobotProfile& profile) {
   WalkabilityConfig config;
   config.min_lethal_distance_m = profile.inscribed_radius_m;
-  if (profile.footprint == traversability::FootprintShape::kRectangle) config.heading_count = profile.contact_headings;
+  if (profile.footprint == traversability::FootprintShape::kRectangle) {
+    config.heading_count = profile.contact_headings;
+    config.omni = profile.motion_model == traversability::MotionModel::kOmni;
+  }
   return config;
 }
 
-bool FaceGraph::headingFits(std::uint32_t f, const Eigen::Vector3d& direction_W) const {
+bool FaceGraph::judgedHeadingFits(std::uint32_t f, int k) const {
   const std::uint32_t fits = layers_[f].heading_fits;
   const int n = config_.heading_count;
   if (n == 0 || fits == 0) return true;
-  const double x = direction_W.dot(heading_e1_), y = direction_W.dot(heading_e2_);
-  if (x == 0 && y == 0) return true;  // no horizontal travel
-  // Position among the judged headings, over half a turn (a rectangle turned by 180 deg is the same).
-  double position = std::atan2(y, x) / M_PI * n;
-  position = std::fmod(position, static_cast<double>(n));
-  if (position < 0) position += n;
-  const int lo = static_cast<int>(std::floor(position)) % n;
-  const int hi = (lo + 1) % n;
-  const bool on_lo = position - std::floor(position) < 1e-9;
-  return (fits >> lo & 1u) != 0 && (on_lo || (fits >> hi & 1u) != 0);
+  return (fits >> (((k % n) + n) % n) & 1u) != 0;
+}
+
+Eigen::Vector3d FaceGraph::judgedHeading(int k) const {
+  const double angle = config_.heading_count > 0 ? M_PI * k / config_.heading_count : 0.0;
+  return std::cos(angle) * heading_e1_ + std::sin(angle) * heading_e2_;
+}
+
+bool FaceGraph::headingFits(std::uint32_t f, const Eigen::Vector3d& direction_W) const {
+  return turnFits(f, direction_W, 0.0);
+}
+
+bool FaceGraph::turnFits(std::uint32_t f, const Eigen::Vector3d& from_W, double turn_rad) const {
+  const int n = config_.heading_count;
+  if (n == 0 || layers_[f].heading_fits == 0) return true;
+  const double x = from_W.dot(heading_e1_), y = from_W.dot(heading_e2_);
+  if (x == 0 && y == 0) return true;  // no horizontal heading
+  // Positions among the judged headings (k at k x 180 / n deg): the start and the end of the turn.
+  const double a = std::atan2(y, x) / M_PI * n;
+  const double b = a + turn_rad / M_PI * n;
+  const double lo = std::min(a, b), hi = std::max(a, b);
+  // Every judged heading from the one at or below lo to the one at or above hi; a position on a
+  // judged heading (within rounding) needs only that one.
+  const double tolerance = 1e-9 * n;
+  const auto first = static_cast<long>(std::floor(lo + tolerance));
+  const auto last = std::max(first, static_cast<long>(std::ceil(hi - tolerance)));
+  for (long k = first; k <= last && k - first < n; ++k) {
+    if (!judgedHeadingFits(f, static_cast<int>(((k % n) + n) % n))) return false;
+  }
+  return true;
 }
 
 double FaceGraph::plannedCost(std::uint32_t f) const {

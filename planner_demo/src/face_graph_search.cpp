@@ -1,6 +1,7 @@
 // A* over points on the edges of the walkable faces: the discrete baseline.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <stdexcept>
@@ -45,24 +46,65 @@ void straighten(std::vector<Eigen::Vector3d>& points, const std::vector<std::arr
 
 }  // namespace
 
+Eigen::Vector3d FaceGraph::nodePosition(std::uint32_t node, std::uint32_t k, const Eigen::Vector3d& start_W,
+                                        const Eigen::Vector3d& goal_W) const {
+  const std::size_t edge_nodes = edge_vertices_.size() * k;
+  if (node == edge_nodes) return start_W;
+  if (node == edge_nodes + 1) return goal_W;
+  const auto& ends = edge_vertices_[node / k];
+  const double s = static_cast<double>(node % k + 1) / static_cast<double>(k + 1);
+  return vertices_[ends[0]] + s * (vertices_[ends[1]] - vertices_[ends[0]]);
+}
+
+std::array<Eigen::Vector3d, 2> FaceGraph::nodeEdge(std::uint32_t node, std::uint32_t k, const Eigen::Vector3d& start_W,
+                                                   const Eigen::Vector3d& goal_W) const {
+  if (node < edge_vertices_.size() * k) {
+    const auto& ends = edge_vertices_[node / k];
+    return {vertices_[ends[0]], vertices_[ends[1]]};
+  }
+  const Eigen::Vector3d p = nodePosition(node, k, start_W, goal_W);  // the start or goal: fixed
+  return {p, p};
+}
+
+void FaceGraph::finishPath(GraphPath& path, const std::vector<std::array<Eigen::Vector3d, 2>>& ends) const {
+  std::vector<double> weights;
+  for (std::uint32_t f : path.faces) weights.push_back(multipliers_[f]);
+  // Point i joins piece i - 1 (on faces[i - 1]) and piece i (on faces[i]). A body that keeps its own
+  // heading fits its faces wherever the crossings lie; one facing its travel turns with them.
+  const auto allowed = [&](std::size_t i, const Eigen::Vector3d& p) {
+    if (!path.body_headings_W.empty()) return true;
+    return headingFits(path.faces[i - 1], p - path.points_W[i - 1]) &&
+           headingFits(path.faces[i], path.points_W[i + 1] - p);
+  };
+  straighten(path.points_W, ends, weights, allowed);
+  double length = 0, cost = 0;
+  for (std::size_t i = 1; i < path.points_W.size(); ++i) {
+    const double piece = (path.points_W[i] - path.points_W[i - 1]).norm();
+    length += piece;
+    cost += piece * weights[i - 1];
+    if (path.body_headings_W.empty()) continue;
+    // The body's turn (a rectangle turned by 180 deg is the same), as the search charged it.
+    const double cosine = std::abs(path.body_headings_W[i].dot(path.body_headings_W[i - 1]));
+    cost += config_.turn_cost_m_per_rad * std::acos(std::min(cosine, 1.0)) / metres_per_unit_;
+  }
+  path.found = true;
+  path.length_m = length * metres_per_unit_;
+  path.cost = cost * metres_per_unit_;
+}
+
 GraphPath FaceGraph::shortestPath(const SurfaceLocation& start, const SurfaceLocation& goal, int points_per_edge) const {
   if (points_per_edge < 1) throw std::invalid_argument("FaceGraph::shortestPath: points_per_edge must be >= 1");
   GraphPath result;
   if (start.face >= faces_.size() || goal.face >= faces_.size()) return result;
   if (!walkable_[start.face] || !walkable_[goal.face]) return result;
   if (components_[start.face] != components_[goal.face]) return result;
-
   const auto k = static_cast<std::uint32_t>(points_per_edge);
+  if (config_.omni && config_.heading_count > 0) return omniShortestPath(start, goal, k);
+
   const std::size_t edge_nodes = edge_vertices_.size() * k;
   const auto start_node = static_cast<std::uint32_t>(edge_nodes);
   const auto goal_node = start_node + 1;
-  auto position = [&](std::uint32_t node) -> Eigen::Vector3d {
-    if (node == start_node) return start.point_W;
-    if (node == goal_node) return goal.point_W;
-    const auto& ends = edge_vertices_[node / k];
-    const double s = static_cast<double>(node % k + 1) / static_cast<double>(k + 1);
-    return vertices_[ends[0]] + s * (vertices_[ends[1]] - vertices_[ends[0]]);
-  };
+  const auto position = [&](std::uint32_t node) { return nodePosition(node, k, start.point_W, goal.point_W); };
 
   // A* over the edge nodes (plus start and goal); an edge's label is the face it crosses.
   const auto expand = [&](std::uint32_t u, const graph::Relax& relax) {
@@ -92,29 +134,12 @@ GraphPath FaceGraph::shortestPath(const SurfaceLocation& start, const SurfaceLoc
   for (std::uint32_t node = goal_node; node != graph::SearchResult::kNone; node = search.parent[node]) {
     result.points_W.push_back(position(node));
     if (search.parent[node] != graph::SearchResult::kNone) result.faces.push_back(search.parent_label[node]);
-    const std::array<std::uint32_t, 2> edge = node < edge_nodes ? edge_vertices_[node / k] : std::array<std::uint32_t, 2>{0, 0};
-    ends.push_back({vertices_[edge[0]], vertices_[edge[1]]});
+    ends.push_back(nodeEdge(node, k, start.point_W, goal.point_W));
   }
   std::reverse(result.points_W.begin(), result.points_W.end());
   std::reverse(result.faces.begin(), result.faces.end());
   std::reverse(ends.begin(), ends.end());
-  std::vector<double> weights;
-  for (std::uint32_t f : result.faces) weights.push_back(multipliers_[f]);
-  // Point i joins piece i - 1 (on faces[i - 1]) and piece i (on faces[i]).
-  const auto allowed = [&](std::size_t i, const Eigen::Vector3d& p) {
-    return headingFits(result.faces[i - 1], p - result.points_W[i - 1]) &&
-           headingFits(result.faces[i], result.points_W[i + 1] - p);
-  };
-  straighten(result.points_W, ends, weights, allowed);
-  double length = 0, cost = 0;
-  for (std::size_t i = 1; i < result.points_W.size(); ++i) {
-    const double piece = (result.points_W[i] - result.points_W[i - 1]).norm();
-    length += piece;
-    cost += piece * weights[i - 1];
-  }
-  result.found = true;
-  result.length_m = length * metres_per_unit_;
-  result.cost = cost * metres_per_unit_;
+  finishPath(result, ends);
   return result;
 }
 

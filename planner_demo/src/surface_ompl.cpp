@@ -42,6 +42,11 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> tangentBasis(const Eigen::Vector3d& 
 
 }  // namespace
 
+std::optional<BodyTurn> bodyTurn(const FaceGraph& graph, double yaw_from, double yaw_to) {
+  if (!graph.config().omni || graph.config().heading_count == 0) return std::nullopt;
+  return BodyTurn{geometry::headingDirection(yaw_from, graph.up()), angleDifference(yaw_from, yaw_to)};
+}
+
 SurfaceStateSpace::SurfaceStateSpace(const FaceGraph& graph, double yaw_weight_m_per_rad, double vertical_weight,
                                      double max_detour, std::uint32_t seed)
     : graph_(graph), yaw_weight_(yaw_weight_m_per_rad), vertical_weight_(vertical_weight), max_detour_(max_detour),
@@ -166,7 +171,10 @@ SurfaceValidityChecker::SurfaceValidityChecker(const ompl::base::SpaceInformatio
 
 bool SurfaceValidityChecker::isValid(const ompl::base::State* state) const {
   const std::uint32_t f = st(state).face;
-  return f < graph_.faceCount() && graph_.walkable(f);
+  if (f >= graph_.faceCount() || !graph_.walkable(f)) return false;
+  // A body that keeps its own heading must fit at it.
+  const auto body = bodyTurn(graph_, st(state).yaw, st(state).yaw);
+  return !body || graph_.turnFits(f, body->from_W, 0.0);
 }
 
 double SurfaceValidityChecker::clearance(const ompl::base::State* state) const {
@@ -179,13 +187,16 @@ SurfaceMotionValidator::SurfaceMotionValidator(const ompl::base::SpaceInformatio
     : ompl::base::MotionValidator(si), space_(space) {}
 
 bool SurfaceMotionValidator::checkMotion(const ompl::base::State* s1, const ompl::base::State* s2) const {
-  return space_.graph().walk(st(s1).location(), st(s2).location(), true, space_.maxDetour()).reached();
+  const FaceGraph& graph = space_.graph();
+  const auto body = bodyTurn(graph, st(s1).yaw, st(s2).yaw);
+  return graph.walk(st(s1).location(), st(s2).location(), true, space_.maxDetour(), body).reached();
 }
 
 bool SurfaceMotionValidator::checkMotion(const ompl::base::State* s1, const ompl::base::State* s2,
                                          std::pair<ompl::base::State*, double>& last_valid) const {
   const FaceGraph& graph = space_.graph();
-  const SurfaceWalk walk = graph.walk(st(s1).location(), st(s2).location(), true, space_.maxDetour());
+  const SurfaceWalk walk = graph.walk(st(s1).location(), st(s2).location(), true, space_.maxDetour(),
+                                      bodyTurn(graph, st(s1).yaw, st(s2).yaw));
   if (walk.reached()) return true;
   const SurfaceLocation& end = walk.points.back();
   std::uint32_t face = end.face;

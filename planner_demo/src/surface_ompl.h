@@ -4,6 +4,7 @@
 // objective over a FaceGraph. Internal: only planning's sources include OMPL.
 
 #include <atomic>
+#include <optional>
 #include <ompl/base/MotionValidator.h>
 #include <ompl/base/OptimizationObjective.h>
 #include <ompl/base/StateSampler.h>
@@ -13,6 +14,11 @@
 #include "planning/face_graph.h"
 
 namespace terramesh::planning::internal {
+
+/// The body's turn from heading `yaw_from` to `yaw_to` (radians, docs/planning.md) by the smaller
+/// angle, for a graph whose body keeps its own heading (WalkabilityConfig::omni with headings);
+/// nothing when the body faces its travel.
+std::optional<BodyTurn> bodyTurn(const FaceGraph& graph, double yaw_from, double yaw_to);
 
 /// A robot on the surface: a face, a point on it (map frame, map units) and a heading (radians
 /// about "up", see docs/planning.md). Multi-level maps are fine: nothing assumes z = f(x, y).

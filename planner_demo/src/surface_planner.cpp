@@ -72,17 +72,23 @@ PathState pathState(const FaceGraph& graph, const SurfaceLocation& location, dou
   return PathState{location, yaw, graph.plannedCost(location.face)};
 }
 
-/// Dense states through the given polyline points; headings follow the direction of travel.
-void densify(const FaceGraph& graph, const std::vector<SurfaceLocation>& points, PlanResult& result) {
+/// Dense states through the given polyline points. Headings follow the direction of travel, or,
+/// with one yaw per point (a body that keeps its own heading), are those yaws; then a point
+/// repeated with another yaw (a turn on the spot) is kept.
+void densify(const FaceGraph& graph, const std::vector<SurfaceLocation>& points, PlanResult& result,
+             const std::vector<double>& body_yaws = {}) {
+  const bool own_heading = !body_yaws.empty();
   result.states.clear();
   for (std::size_t i = 0; i < points.size(); ++i) {
-    if (i > 0 && points[i].point_W == points[i - 1].point_W && !result.states.empty()) {
+    const double yaw = own_heading ? body_yaws[i] : 0.0;
+    if (i > 0 && points[i].point_W == points[i - 1].point_W && !result.states.empty() &&
+        (!own_heading || yaw == result.states.back().yaw_rad)) {
       result.states.back().location.face = points[i].face;
       continue;
     }
-    result.states.push_back(pathState(graph, points[i], 0.0));
+    result.states.push_back(pathState(graph, points[i], yaw));
   }
-  for (std::size_t i = 0; i < result.states.size(); ++i) {
+  for (std::size_t i = 0; i < result.states.size() && !own_heading; ++i) {
     const std::size_t a = i + 1 < result.states.size() ? i : (i > 0 ? i - 1 : i);
     const std::size_t b = std::min(a + 1, result.states.size() - 1);
     const Eigen::Vector3d direction = result.states[b].location.point_W - result.states[a].location.point_W;
@@ -94,6 +100,41 @@ void densify(const FaceGraph& graph, const std::vector<SurfaceLocation>& points,
     if (!graph.walkableUnknown(result.states[i].location.face)) continue;
     result.unknown_length_m +=
         (result.states[i + 1].location.point_W - result.states[i].location.point_W).norm() * graph.metresPerUnit();
+  }
+}
+
+/// The heading of an OMPL start or goal state on `face`: along `straight`, or, for a body that
+/// keeps its own heading and does not fit that one there, the judged heading nearest it that fits.
+double endYaw(const FaceGraph& graph, std::uint32_t face, const Eigen::Vector3d& straight) {
+  const double along = straight.norm() > 0 ? headingAbout(straight, graph.up()) : 0.0;
+  const int n = graph.config().heading_count;
+  if (!graph.config().omni || n == 0) return along;
+  if (graph.headingFits(face, geometry::headingDirection(along, graph.up()))) return along;
+  double best = along, best_turn = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 2 * n; ++k) {  // both ends of each judged heading
+    const Eigen::Vector3d heading = k < n ? graph.judgedHeading(k) : Eigen::Vector3d(-graph.judgedHeading(k - n));
+    const double yaw = headingAbout(heading, graph.up());
+    const double turn = std::abs(angleDifference(along, yaw));
+    if (graph.judgedHeadingFits(face, k % n) && turn < best_turn) {
+      best = yaw;
+      best_turn = turn;
+    }
+  }
+  return best;
+}
+
+/// The yaw at each point of a walk from a state at `yaw_from` to one at `yaw_to`: turned in
+/// proportion to the length walked.
+void appendWalkYaws(const SurfaceWalk& walk, double yaw_from, double yaw_to, std::vector<double>& yaws) {
+  double total = 0;
+  for (std::size_t i = 1; i < walk.points.size(); ++i) {
+    total += (walk.points[i].point_W - walk.points[i - 1].point_W).norm();
+  }
+  double walked = 0;
+  for (std::size_t i = 1; i < walk.points.size(); ++i) {
+    walked += (walk.points[i].point_W - walk.points[i - 1].point_W).norm();
+    const double t = i + 1 == walk.points.size() || total <= 0 ? 1.0 : walked / total;
+    yaws.push_back(std::remainder(yaw_from + t * angleDifference(yaw_from, yaw_to), 2.0 * M_PI));
   }
 }
 
@@ -160,7 +201,8 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
   g->face = result.goal.face;
   g->point_W = result.goal.point_W;
   const Eigen::Vector3d straight = result.goal.point_W - result.start.point_W;
-  s->yaw = g->yaw = straight.norm() > 0 ? headingAbout(straight, graph.up()) : 0.0;
+  s->yaw = endYaw(graph, s->face, straight);
+  g->yaw = endYaw(graph, g->face, straight);
   setup.setStartAndGoalStates(start, goal, 1e-9);
   setup.setPlanner(internal::makePlanner(config.planner, si, config.range_m));
 
@@ -193,19 +235,24 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
   }
   const ompl::geometric::PathGeometric& path = setup.getSolutionPath();
   std::vector<SurfaceLocation> dense;
+  std::vector<double> body_yaws;  // a body that keeps its own heading: its yaw at each dense point
   for (std::size_t i = 0; i < path.getStateCount(); ++i) {
     const auto* state = path.getState(i)->as<SurfaceStateSpace::StateType>();
     result.waypoints.push_back(pathState(graph, state->location(), state->yaw));
+    const bool own_heading = internal::bodyTurn(graph, state->yaw, state->yaw).has_value();
     if (i == 0) {
       dense.push_back(state->location());
+      if (own_heading) body_yaws.push_back(state->yaw);
       continue;
     }
     const auto* previous = path.getState(i - 1)->as<SurfaceStateSpace::StateType>();
-    SurfaceWalk walk = graph.walk(previous->location(), state->location(), true, config.max_detour);
+    SurfaceWalk walk = graph.walk(previous->location(), state->location(), true, config.max_detour,
+                                  internal::bodyTurn(graph, previous->yaw, state->yaw));
     if (!walk.reached()) {
       // The surface walk is not symmetric, and PRM-family roadmaps are undirected: OMPL may have
       // validated this edge from its other end. Walk it that way and turn the walk round.
-      walk = reversed(graph.walk(state->location(), previous->location(), true, config.max_detour));
+      walk = reversed(graph.walk(state->location(), previous->location(), true, config.max_detour,
+                                 internal::bodyTurn(graph, state->yaw, previous->yaw)));
     }
     if (!walk.reached()) {
       // Cannot happen for a path OMPL validated with the same walk; refuse rather than report it.
@@ -214,10 +261,11 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
       return result;
     }
     dense.insert(dense.end(), walk.points.begin() + 1, walk.points.end());
+    if (own_heading) appendWalkYaws(walk, previous->yaw, state->yaw, body_yaws);
     result.length_m += walk.length_m;
     result.cost += walk.cost;
   }
-  densify(graph, dense, result);
+  densify(graph, dense, result, body_yaws);
   result.status = PlanStatus::kSolved;
   return result;
 }
@@ -243,10 +291,12 @@ PlanResult planOnFaceGraph(const FaceGraph& graph, const Eigen::Vector3d& start_
     return result;
   }
   std::vector<SurfaceLocation> dense;
+  std::vector<double> body_yaws;
   for (std::size_t i = 0; i < path.points_W.size(); ++i) {
     dense.push_back(SurfaceLocation{i < path.faces.size() ? path.faces[i] : result.goal.face, path.points_W[i]});
+    if (!path.body_headings_W.empty()) body_yaws.push_back(headingAbout(path.body_headings_W[i], graph.up()));
   }
-  densify(graph, dense, result);
+  densify(graph, dense, result, body_yaws);
   result.waypoints = result.states;
   result.length_m = path.length_m;
   result.cost = path.cost;

@@ -61,7 +61,7 @@ Eigen::Vector3d FaceGraph::sharedCrossing(const std::array<std::uint32_t, 3>& a,
 }
 
 SurfaceWalk FaceGraph::walk(const SurfaceLocation& from, const SurfaceLocation& to, bool require_walkable,
-                            double max_detour) const {
+                            double max_detour, const std::optional<BodyTurn>& body) const {
   SurfaceWalk out;
   out.points.push_back(from);
   const double straight = (to.point_W - from.point_W).norm();
@@ -70,9 +70,11 @@ SurfaceWalk FaceGraph::walk(const SurfaceLocation& from, const SurfaceLocation& 
   SurfaceLocation current = from;
   int entry_edge = -1;
   int idle_steps = 0;
-  // The heading of travel: straight at the target.
+  // The heading of travel, straight at the target; or the body's own, turning over the walk.
   const Eigen::Vector3d travel = to.point_W - from.point_W;
-  const auto passable = [&](std::uint32_t f) { return walkable_[f] && headingFits(f, travel); };
+  const auto passable = [&](std::uint32_t f) {
+    return walkable_[f] && (body ? turnFits(f, body->from_W, body->turn_rad) : headingFits(f, travel));
+  };
   auto finish = [&](WalkStop stop) {
     out.stop = stop;
     out.length_m = length * metres_per_unit_;

@@ -66,15 +66,26 @@ datasets::LabeledMesh roadWithWall() {
   return truth;
 }
 
+/// roadWithWall() with its checker, for the truth of a comparison.
+struct RoadWithWall {
+  datasets::LabeledMesh truth = roadWithWall();
+  datasets::TriangleBvh bvh{truth.mesh};
+  TruthChecker checker{truth, bvh};
+  PathTruth pathTruth(const TruthCheckConfig& config) const {
+    PathTruth path_truth;
+    path_truth.checker = &checker;
+    path_truth.config = config;
+    return path_truth;
+  }
+};
+
 TEST(PathTrialsTest, RunsPairByPairInPlannerOrderAndChecksEverySolvedPathOnTheTruth) {
-  const datasets::LabeledMesh truth = roadWithWall();
-  const datasets::TriangleBvh bvh(truth.mesh);
-  const TruthChecker checker(truth, bvh);
-  PathTruth path_truth;
-  path_truth.checker = &checker;
-  path_truth.config.footprint_radius_m = 0.34;
-  path_truth.config.max_step_m = 0.18;
-  path_truth.config.min_clearance_m = 0.5;
+  const RoadWithWall road;
+  TruthCheckConfig disc;
+  disc.footprint_radius_m = 0.34;
+  disc.max_step_m = 0.18;
+  disc.min_clearance_m = 0.5;
+  const PathTruth path_truth = road.pathTruth(disc);
   std::vector<std::string> log;
   // a: clear of the wall, then into it (y = 2.1 passes the wall's face at 0.1 m), then refused.
   const ScriptedPlanner a("a", {straight(1, 9, -3, 0.5), straight(1, 9, 2.1, 0.25), refused(planning::PlanStatus::kNoGoal, 0.125)}, log);
@@ -109,6 +120,29 @@ TEST(PathTrialsTest, RunsPairByPairInPlannerOrderAndChecksEverySolvedPathOnTheTr
   EXPECT_DOUBLE_EQ(tb.length_m, 6.0);
   EXPECT_DOUBLE_EQ(tb.time_s, 7.0);
   EXPECT_EQ(tb.trials[2].result.status, planning::PlanStatus::kNotFound);
+}
+
+TEST(PathTrialsTest, ABodyThatKeepsItsOwnHeadingIsCheckedAtThePathsYaw) {
+  // A 1.1 x 0.5 m rectangle 0.4 m beside the wall's face (y = 1.6): along its path (yaw 0) its
+  // half width clears it; walking the same path sideways (yaw 90 deg) its half length does not.
+  const RoadWithWall road;
+  TruthCheckConfig legged;
+  legged.footprint_length_m = 1.1;
+  legged.footprint_width_m = 0.5;
+  legged.footprint_radius_m = 0.5 * std::hypot(1.1, 0.5);
+  legged.max_step_m = 0.3;
+  legged.own_heading = true;
+  const PathTruth path_truth = road.pathTruth(legged);
+  planning::PlanResult sideways = straight(1, 9, 1.6, 0.5);
+  for (planning::PathState& state : sideways.states) state.yaw_rad = M_PI / 2;
+  std::vector<std::string> log;
+  const ScriptedPlanner a("a", {straight(1, 9, 1.6, 0.5), sideways}, log);
+  const std::vector<std::pair<Vector3d, Vector3d>> pairs(2, {Vector3d(1, 0, 0), Vector3d(9, 0, 0)});
+  const PlannerTrials tally = runPathTrials({&a}, pairs, path_truth).front();
+  ASSERT_EQ(tally.truth_checked, 2u);
+  EXPECT_TRUE(tally.trials[0].check.valid) << tally.trials[0].check.reason;
+  EXPECT_FALSE(tally.trials[1].check.valid);
+  EXPECT_NE(tally.trials[1].check.reason.find("the body's heading"), std::string::npos) << tally.trials[1].check.reason;
 }
 
 TEST(PathTrialsTest, WithoutATruthNothingIsCheckedAndANullPlannerIsRefused) {

@@ -17,6 +17,7 @@ namespace {
 using datasets::SurfaceLabel;
 using Eigen::Vector3d;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 /// A labelled truth built from axis-aligned quads (two triangles each).
 class Truth {
@@ -37,6 +38,12 @@ class Truth {
   TruthCheck check(const std::vector<Vector3d>& path, const TruthCheckConfig& config) const {
     const datasets::TriangleBvh bvh(mesh_.mesh);
     return checkAgainstTruth(mesh_, bvh, path, Vector3d::UnitZ(), 1.0, config);
+  }
+  /// The path walked by a body that keeps its own heading, `body` at each point.
+  TruthCheck check(const std::vector<Vector3d>& path, const TruthCheckConfig& config,
+                   const std::vector<Vector3d>& body) const {
+    const datasets::TriangleBvh bvh(mesh_.mesh);
+    return TruthChecker(mesh_, bvh).check(path, Vector3d::UnitZ(), 1.0, config, body);
   }
 
  private:
@@ -267,6 +274,29 @@ TEST(GroundTruthCheck, RectangleOnAPathWithoutHeadingIsItsCircumscribedDisc) {
   const TruthCheck still = truth.check({{0.0, 0.0, 0.0}}, legged());
   EXPECT_FALSE(still.valid);
   EXPECT_THAT(still.reason, HasSubstr("true wall face 0.50 m from the path at (0, 0, 0), inside the 0.60 m footprint"));
+}
+
+TEST(GroundTruthCheck, RectangleKeepingItsOwnHeadingIsCheckedAtIt) {
+  // The wall 0.30 m beside the path: the body along the path passes; walking the same path
+  // sideways (body across it) or turning across it on the way fails; a heading per point is needed.
+  Truth truth;
+  truth.level(-5, 5, -5, 5, 0.0, SurfaceLabel::kRoad).wallAlongX(0.3, -5, 5, 0.0, 2.0, SurfaceLabel::kWall);
+  const std::vector<Vector3d> path = alongX(0.0, 0.0);
+  const Vector3d x = Vector3d::UnitX(), y = Vector3d::UnitY();
+  EXPECT_TRUE(truth.check(path, legged(), {x, x, x}).valid);
+  EXPECT_TRUE(truth.check(path, legged(), {-x, -x, -x}).valid);  // backwards: the same rectangle
+  EXPECT_FALSE(truth.check(path, legged(), {x, -x, x}).valid);   // turning round passes across
+  const TruthCheck sideways = truth.check(path, legged(), {y, y, y});
+  EXPECT_FALSE(sideways.valid);
+  EXPECT_THAT(sideways.reason, HasSubstr("footprint turned to the body's heading: "));
+  EXPECT_THAT(sideways.reason, HasSubstr("at (-3, 0, 0)"));
+  // Turning from along to across between the second and the last point: fine at x = 0, not after.
+  const TruthCheck turning = truth.check(path, legged(), {x, x, y});
+  EXPECT_FALSE(turning.valid);
+  EXPECT_THAT(turning.reason, Not(HasSubstr("at (-3, 0, 0)")));
+  EXPECT_THAT(turning.reason, Not(HasSubstr("at (0, 0, 0)")));
+  EXPECT_THROW(truth.check(path, legged(), {x, x}), std::invalid_argument);
+  EXPECT_THROW(truth.check(path, legged(), {x, Vector3d::UnitZ(), x}), std::invalid_argument);
 }
 
 TEST(GroundTruthCheck, EmptyPathIsValid) {

@@ -1,5 +1,6 @@
 """End-to-end: terramesh generate -> mesh -> traverse -> plan, and planner_demo against the truth."""
 import csv
+import math
 import os
 import subprocess
 import tempfile
@@ -98,6 +99,46 @@ class PlanStreetTest(unittest.TestCase):
         self.assertIn(f"element edge {len(lines) - 2}", ply)
         with open(f"{single}/plan.txt") as f:
             self.assertIn("status solved", f.read())
+
+    def test_legged_robot_keeps_its_own_heading(self):
+        # legged.yaml's motion_model omni: the graph A*'s yaw is the body's own heading, a judged
+        # one (k x 22.5 deg), not the direction of travel; traverse-eval checks the body at it, and
+        # needs the yaw column to.
+        robots = os.path.join(os.path.dirname(__file__), "..", "..", "traversability", "robots")
+        legged = f"{self.dir}/map_legged"
+        result = run(BIN, "traverse", f"{self.dir}/mesh/mesh.ply", "--robot", os.path.join(robots, "legged.yaml"),
+                     "-o", legged, "--no-geotiff", "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        out = f"{self.dir}/legged_pairs"
+        result = run(BIN, "plan", legged, "--planner", "graph", "--random-pairs", "1", "-o", out, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        row = read_pairs(out)[0]
+        self.assertEqual(row["status"], "solved")
+        single = f"{self.dir}/legged_single"
+        result = run(BIN, "plan", legged, "--planner", "graph", "--start", row["start_x"], row["start_y"],
+                     row["start_z"], "--goal", row["goal_x"], row["goal_y"], row["goal_z"], "-o", single, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(f"{single}/path.csv") as f:
+            rows = list(csv.DictReader(f))
+        self.assertGreaterEqual(len(rows), 2)
+        for r in rows:
+            steps = float(r["yaw"]) / (math.pi / 8)
+            self.assertAlmostEqual(steps, round(steps), places=6, msg=f"yaw {r['yaw']} is no judged heading")
+        report = f"{single}/check.txt"
+        truth = f"{self.dir}/scene/ground_truth.ply"
+        result = run(BIN, "traverse-eval", legged, "--gt-mesh", truth, "--path", f"{single}/path.csv",
+                     "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(report) as f:
+            self.assertIn("paths_checked 1", f.read())
+        without_yaw = f"{single}/no_yaw.csv"
+        with open(without_yaw, "w") as f:
+            f.write("x,y,z\n" + "".join(f"{r['x']},{r['y']},{r['z']}\n" for r in rows))
+        result = run(BIN, "traverse-eval", legged, "--gt-mesh", truth, "--path", without_yaw, "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("no_yaw.csv", result.stderr)
+        self.assertIn("x,y,z,yaw", result.stderr)
+        self.assertIn("motion_model omni", result.stderr)
 
     def test_allow_unknown_option(self):
         out = f"{self.dir}/unknown"

@@ -55,6 +55,8 @@ TEST(RobotProfileTest, ShippedProfilesMatchTheIssue) {
   EXPECT_NEAR(car.footprint_width_m, 1.8, 0.1);
   EXPECT_GE(car.min_clearance_m, 1.5);
   EXPECT_NEAR(car.footprintCircumradiusM(), 0.5 * std::hypot(4.8, 1.8), 1e-12);
+  EXPECT_EQ(car.motion_model, MotionModel::kDiffDrive) << "a car faces its travel";
+  EXPECT_EQ(loadRobotProfile(kRobots / "legged.yaml").motion_model, MotionModel::kOmni) << "a quadruped walks sideways";
 }
 
 TEST(RobotProfileTest, WriteThenLoadGivesTheSameProfile) {
@@ -66,6 +68,7 @@ TEST(RobotProfileTest, WriteThenLoadGivesTheSameProfile) {
   profile.max_slope_deg = 12.5;
   profile.weights.roughness = 0.25;
   profile.contact_headings = 12;
+  profile.motion_model = MotionModel::kOmni;
   profile.min_rays = 5;
   profile.gravity_W = Eigen::Vector3d(0.1, -9.8, 0.2);
   test::TempDir dir;
@@ -78,6 +81,7 @@ TEST(RobotProfileTest, WriteThenLoadGivesTheSameProfile) {
   EXPECT_EQ(back.max_slope_deg, profile.max_slope_deg);
   EXPECT_EQ(back.weights.roughness, profile.weights.roughness);
   EXPECT_EQ(back.contact_headings, profile.contact_headings);
+  EXPECT_EQ(back.motion_model, MotionModel::kOmni);
   EXPECT_EQ(back.min_rays, profile.min_rays);
   ASSERT_TRUE(back.gravity_W.has_value());
   EXPECT_EQ(*back.gravity_W, *profile.gravity_W);
@@ -100,6 +104,10 @@ TEST(RobotProfileTest, BadValuesNameTheKeyTheLineAndTheRange) {
 
   const std::string integer = loadError("name: r\ncontact_headings: 2.5\n");
   EXPECT_NE(integer.find("contact_headings"), std::string::npos) << integer;
+
+  const std::string motion = loadError("name: r\nmotion_model: holonomic\n");
+  EXPECT_NE(motion.find("line 2, key motion_model"), std::string::npos) << motion;
+  EXPECT_NE(motion.find("\"holonomic\": expected diff_drive or omni"), std::string::npos) << motion;
 }
 
 TEST(RobotProfileTest, UnknownKeysAreErrors) {

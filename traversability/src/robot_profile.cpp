@@ -129,6 +129,14 @@ std::vector<std::string> problemsOf(const RobotProfile& profile) {
 
 }  // namespace internal
 
+const char* toString(MotionModel model) {
+  switch (model) {
+    case MotionModel::kDiffDrive: return "diff_drive";
+    case MotionModel::kOmni: return "omni";
+  }
+  return "?";
+}
+
 double RobotProfile::footprintCircumradiusM() const {
   if (footprint == FootprintShape::kDisc) return footprint_radius_m;
   return 0.5 * std::hypot(footprint_length_m, footprint_width_m);

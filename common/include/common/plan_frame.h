@@ -35,6 +35,11 @@ PlanFrameRule exportFrameRule();
 /// planning measures headings in.
 PlanFrameRule headingFrameRule();
 
+/// The horizontal unit direction at heading `yaw_rad` about `up` (unit) in the frame planning
+/// measures headings in (headingFrameRule): cos(yaw) e1 + sin(yaw) e2, counter-clockwise seen
+/// from above. The yaw of terramesh plan's path.csv. O(1), thread-safe.
+Eigen::Vector3d headingDirection(double yaw_rad, const Eigen::Vector3d& up);
+
 /// e1 = up x helper with the default helper test: two axes across any unit direction (a column's
 /// axis, a face normal).
 PlanFrameRule acrossFrameRule();

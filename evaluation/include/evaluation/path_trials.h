@@ -48,7 +48,9 @@ struct PathTruth {
 /// The comparison harness of `terramesh compare` and `planner_demo`: runs every planner on every
 /// pair (map frame, map units), pair by pair with the planners in the given order (the order in
 /// which OMPL's process-wide generator is drawn from, so a seeded run repeats), and checks every
-/// solved path on the truth when there is one. Returns one PlannerTrials per planner, in order.
+/// solved path on the truth when there is one (a body that keeps its own heading,
+/// TruthCheckConfig::own_heading, at each state's yaw about `up_W`, geometry::headingDirection).
+/// Returns one PlannerTrials per planner, in order.
 /// @throw std::invalid_argument if a planner is null, a point is not finite, or the truth check
 ///        config does not validate.
 std::vector<PlannerTrials> runPathTrials(const std::vector<const planning::PathPlanner*>& planners,

@@ -42,6 +42,10 @@ struct TruthCheckConfig {
   /// How far up and down to look for the true surface when a sample is out of tolerance (only
   /// for the failure reason).
   double ground_search_m = 5.0;
+  /// A rectangle that keeps its own heading (traversability::MotionModel::kOmni): its paths are
+  /// checked at the body's heading the planner gave each point (the yaw), which the callers pass
+  /// to TruthChecker::check, instead of the heading of travel.
+  bool own_heading = false;
 
   /// @throw std::invalid_argument listing every problem, each as "field: value (expected ...)".
   void validate() const;
@@ -85,7 +89,10 @@ class TruthChecker {
   ///    A rectangle's body is the upright box over the footprint centred on g, turned to the
   ///    heading of travel at p: the horizontal direction of the chord between the path points half
   ///    the footprint's length behind and ahead of p along the path (clamped to its ends), the
-  ///    heading of a body whose two ends follow the path. Where that heading turns between
+  ///    heading of a body whose two ends follow the path; or, given `body_headings_W` (one per
+  ///    path point: a body that keeps its own heading, traversability::MotionModel::kOmni), the
+  ///    heading of the path point before p turned towards the next one's in proportion to the
+  ///    distance along the segment. Where that heading turns between
   ///    samples, the body is also tested at p at intermediate headings, close enough that its
   ///    corners move at most `spacing_m` from one to the next. Each face within the box's
   ///    circumscribed ball (TriangleBvh::facesWithin) is clipped to the box, exactly; a face that
@@ -102,18 +109,20 @@ class TruthChecker {
   ///    cross the true surface (driving through a wall, a car, a rock).
   /// Stops at the first failure. `path_W` and the truth share a frame and its units;
   /// `metres_per_unit` converts. An empty path is valid.
-  /// @throw std::invalid_argument if `config` is invalid, `metres_per_unit` <= 0 or `up_W` is zero.
+  /// @throw std::invalid_argument if `config` is invalid, `metres_per_unit` <= 0, `up_W` is zero,
+  ///        or `body_headings_W` is neither empty nor one horizontal direction per path point.
   TruthCheck check(const std::vector<Eigen::Vector3d>& path_W, const Eigen::Vector3d& up_W, double metres_per_unit,
-                   const TruthCheckConfig& config) const;
+                   const TruthCheckConfig& config, const std::vector<Eigen::Vector3d>& body_headings_W = {}) const;
 
  private:
   /// The failure of rule 4 for a disc body on true ground `g` under sample `p`, or "".
   std::string discFailure(const Eigen::Vector3d& p, const Eigen::Vector3d& g, const Eigen::Vector3d& up,
                           double metres_per_unit, const TruthCheckConfig& config) const;
-  /// The failure of rule 4 for a rectangle's body turning from heading `from` to `to` at `p`, or "".
+  /// The failure of rule 4 for a rectangle's body turning from heading `from` to `to` at `p`, or "";
+  /// `own_heading`: the headings are the body's own, not those of travel (for the message).
   std::string boxFailure(const Eigen::Vector3d& p, const Eigen::Vector3d& g, const Eigen::Vector3d& up,
                          const Eigen::Vector3d& from, const Eigen::Vector3d& to, double metres_per_unit,
-                         const TruthCheckConfig& config) const;
+                         const TruthCheckConfig& config, bool own_heading) const;
 
   const datasets::LabeledMesh& truth_;
   const datasets::TriangleBvh& bvh_;

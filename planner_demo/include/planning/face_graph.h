@@ -38,12 +38,19 @@ struct WalkabilityConfig {
   /// A rectangular robot's contact_headings (RobotProfile): the direction of travel over a face
   /// must fit its `heading_fits` layer (FaceGraph::headingFits). 0: no heading test (a disc).
   int heading_count = 0;
+  /// With heading_count > 0: the body keeps a heading of its own (MotionModel::kOmni), which the
+  /// faces it stands on must fit, instead of facing its direction of travel. It turns on the spot
+  /// one judged heading at a time, on a face that fits both.
+  bool omni = false;
+  /// The cost of turning an omni body on the spot, metres of travel per radian.
+  double turn_cost_m_per_rad = 0.1;
   /// @throw std::invalid_argument listing every out-of-range field.
   void validate() const;
 };
 
 /// The walkability of a robot profile's robot: free faces at least its inscribed radius from a
-/// lethal face, and a rectangle's headings of travel kept to those its footprint fits at.
+/// lethal face, and a rectangle's headings (of travel, or of its body with MotionModel::kOmni) kept to
+/// those its footprint fits at.
 WalkabilityConfig walkabilityFor(const traversability::RobotProfile& profile);
 
 /// A point on the surface: a face and a position on it (map frame, map units).
@@ -74,12 +81,22 @@ struct SurfaceWalk {
   bool reached() const { return stop == WalkStop::kReached; }
 };
 
+/// The turn of a body that keeps its own heading (WalkabilityConfig::omni) over a walk: from
+/// heading `from_W` (horizontal direction) by `turn_rad` about up, counter-clockwise from above.
+struct BodyTurn {
+  Eigen::Vector3d from_W = Eigen::Vector3d::UnitX();
+  double turn_rad = 0;
+};
+
 /// A path over the face graph: a polyline from the start point to the goal point through points
 /// on shared edges; piece i (points i to i+1) lies on face faces[i].
 struct GraphPath {
   bool found = false;
   std::vector<Eigen::Vector3d> points_W;
   std::vector<std::uint32_t> faces;
+  /// WalkabilityConfig::omni: per point, the horizontal unit direction the body faces (a turn on the
+  /// spot repeats the point with the new heading). Empty when the body faces its travel.
+  std::vector<Eigen::Vector3d> body_headings_W;
   double length_m = 0;
   double cost = 0;  ///< same formula as SurfaceWalk::cost
   std::size_t expanded = 0;  ///< nodes popped from the queue
@@ -139,6 +156,18 @@ class FaceGraph {
   /// geometry::planFrame(up)) must both fit, or the one it lies on. True otherwise (a disc; a face
   /// no judged heading fits but that is free all the same: driven ground, along its drive).
   bool headingFits(std::uint32_t f, const Eigen::Vector3d& direction_W) const;
+  /// Whether a body on walkable face f fits while it turns from heading `from_W` (its horizontal
+  /// part) by `turn_rad` about up (counter-clockwise seen from above): every judged heading the
+  /// turn passes, and the two around each end, must fit (a rectangle turned by 180 deg is the
+  /// same). headingFits(f, d) is turnFits(f, d, 0). True where headingFits is true for every
+  /// heading, and for a direction without horizontal part.
+  bool turnFits(std::uint32_t f, const Eigen::Vector3d& from_W, double turn_rad) const;
+  /// Whether judged heading k of WalkabilityConfig::heading_count fits face f (true for a disc
+  /// and for a face no judged heading fits, as headingFits).
+  bool judgedHeadingFits(std::uint32_t f, int k) const;
+  /// Judged heading k: the horizontal unit direction k x 180 / heading_count deg about up from the
+  /// plan frame's first axis.
+  Eigen::Vector3d judgedHeading(int k) const;
 
   /// The nearest point on a walkable face within `radius_m` (metres) of `query_W`, or nothing.
   /// O(F). Ties go to the lowest face index.
@@ -151,8 +180,11 @@ class FaceGraph {
   /// is not walkable. Stops when the walked length exceeds `max_detour` times the straight
   /// distance (plus one metre), or after 16 edge crossings in a row that make no progress
   /// (round a vertex, back and forth over a ridge). O(faces crossed).
+  /// With `body` (WalkabilityConfig::omni), the body turns from `body->from_W` by
+  /// `body->turn_rad` over the walk, and each face must fit that whole turn (turnFits) instead of
+  /// the heading of travel.
   SurfaceWalk walk(const SurfaceLocation& from, const SurfaceLocation& to, bool require_walkable,
-                   double max_detour = 3.0) const;
+                   double max_detour = 3.0, const std::optional<BodyTurn>& body = std::nullopt) const;
 
   /// A* over the walkable faces with `points_per_edge` evenly spaced nodes on every edge (plus
   /// start and goal): every two nodes of a walkable face are joined by the straight piece across
@@ -162,7 +194,9 @@ class FaceGraph {
   /// optimum the sampling planners are judged against. The crossings are then slid along their
   /// edges to the cheapest polyline through the same edge sequence (convex; coordinate descent).
   /// `found` is false if the goal is not in the start's component. O(F k^2 log(F k)) for k
-  /// points per edge.
+  /// points per edge. With WalkabilityConfig::omni the nodes carry the body's judged heading too
+  /// (N of them): a piece keeps it, and the body turns on the spot by one heading at a time at
+  /// turn_cost_m_per_rad, on a face that fits both. O(N F k^2 log(N F k)).
   /// @throw std::invalid_argument if points_per_edge < 1.
   GraphPath shortestPath(const SurfaceLocation& start, const SurfaceLocation& goal, int points_per_edge = 4) const;
 
@@ -170,6 +204,17 @@ class FaceGraph {
   void computeWalkability(const traversability::LayeredMesh& map);
   void computeNeighbours();
   void computeComponents();
+  /// shortestPath's search over (node, body heading) for WalkabilityConfig::omni.
+  GraphPath omniShortestPath(const SurfaceLocation& start, const SurfaceLocation& goal, std::uint32_t k) const;
+  /// The end points of the edge node `node` lies on, of shortestPath's nodes (k per edge; the
+  /// start and goal nodes after them lie at `start_W` and `goal_W`).
+  std::array<Eigen::Vector3d, 2> nodeEdge(std::uint32_t node, std::uint32_t k, const Eigen::Vector3d& start_W,
+                                          const Eigen::Vector3d& goal_W) const;
+  /// The position of shortestPath's node `node`.
+  Eigen::Vector3d nodePosition(std::uint32_t node, std::uint32_t k, const Eigen::Vector3d& start_W,
+                               const Eigen::Vector3d& goal_W) const;
+  /// Slides the crossings of a found path along their edges and fills its length and cost.
+  void finishPath(GraphPath& path, const std::vector<std::array<Eigen::Vector3d, 2>>& ends) const;
   /// The point of the edge (or vertex) shared by faces a and b on the shortest way from `from`
   /// to `to` through it.
   Eigen::Vector3d sharedCrossing(const std::array<std::uint32_t, 3>& a, const std::array<std::uint32_t, 3>& b,

@@ -10,6 +10,19 @@ namespace terramesh::traversability {
 /// Shape of the robot's footprint on the ground.
 enum class FootprintShape { kDisc, kRectangle };
 
+/// How the body's heading relates to its motion (Nav2 MPPI's motion models, without Ackermann's
+/// turning radius). Only a rectangle's heading matters: a disc is the same at every heading.
+enum class MotionModel {
+  /// The body faces its direction of travel (a differential-drive or car-like base).
+  kDiffDrive,
+  /// Holonomic: the body keeps any heading while it moves in any direction, and turns on the spot
+  /// (a legged robot or a mecanum base walking sideways).
+  kOmni,
+};
+
+/// "diff_drive" or "omni", as the profile's `motion_model` key spells it.
+const char* toString(MotionModel model);
+
 /// Weights of the normalised layers in the combined cost (each layer is first mapped to [0, 1]
 /// by its limit in the profile, see docs/traversability.md). Any non-negative values; they are
 /// normalised by their sum.
@@ -81,6 +94,9 @@ struct RobotProfile {
   /// Headings at which a rectangular footprint is judged (evenly spaced over 180 degrees: a
   /// rectangle turned by 180 degrees is the same); a disc has one.
   int contact_headings = 8;
+  /// Whether a rectangle's body faces its direction of travel (planners keep that heading to the
+  /// ones its footprint fits at) or keeps a heading of its own (docs/planning.md, "Headings").
+  MotionModel motion_model = MotionModel::kDiffDrive;
 
   /// Costmap-style inflation (Nav2 inflation layer): within `inscribed_radius_m` of a lethal face
   /// the cost is the inscribed cost; beyond it decays as exp(-cost_scaling_factor * (d - r_i))

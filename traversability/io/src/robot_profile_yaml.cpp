@@ -54,6 +54,8 @@ class ProfileReader {
         readSection(value, key, {"slope", "step", "roughness", "contact", "inflation"}, profile);
       } else if (key == "contact_headings") {
         profile.contact_headings = readInteger(value, key, kHeadingsRange);
+      } else if (key == "motion_model") {
+        profile.motion_model = readMotionModel(value);
       } else if (key == "min_rays") {
         profile.min_rays = readInteger(value, key, kMinRaysRange);
       } else if (key == "gravity") {
@@ -73,8 +75,9 @@ class ProfileReader {
       } else {
         fail(entry.first, key, "an unknown key",
              "one of name, footprint, max_slope_deg, max_step_m, max_roughness_m, min_clearance_m, "
-             "contact_tolerance_m, min_support, contact_headings, inscribed_radius_m, inflation_radius_m, "
-             "cost_scaling_factor, weights, min_rays, gravity, evidence, sensor_height_m, sensor_pose_in_base");
+             "contact_tolerance_m, min_support, contact_headings, motion_model, inscribed_radius_m, "
+             "inflation_radius_m, cost_scaling_factor, weights, min_rays, gravity, evidence, sensor_height_m, "
+             "sensor_pose_in_base");
       }
     }
     if (!has_name) throw InputError(file_, "name", "missing: every profile needs a name");
@@ -124,6 +127,13 @@ class ProfileReader {
     }
     if (!ok || !range.contains(value)) fail(node, key, describe(node), "a number in " + range.text());
     return value;
+  }
+
+  MotionModel readMotionModel(const YAML::Node& node) const {
+    for (MotionModel model : {MotionModel::kDiffDrive, MotionModel::kOmni}) {
+      if (node.IsScalar() && node.Scalar() == toString(model)) return model;
+    }
+    fail(node, "motion_model", describe(node), "diff_drive or omni");
   }
 
   int readInteger(const YAML::Node& node, const std::string& key, const Range& range) const {
@@ -250,6 +260,7 @@ void writeRobotProfile(const std::filesystem::path& path, const RobotProfile& pr
     out << YAML::Key << k << YAML::Value << key.field(copy);
   }
   out << YAML::Key << "contact_headings" << YAML::Value << profile.contact_headings;
+  out << YAML::Key << "motion_model" << YAML::Value << toString(profile.motion_model);
   out << YAML::Key << "min_rays" << YAML::Value << profile.min_rays;
   out << YAML::Key << "weights" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "slope" << YAML::Value << profile.weights.slope;
