@@ -15,6 +15,9 @@ Inputs (MAP is the folder):
 Outputs (default MAP/plots):
   traversability_top.png         top view, faces coloured by cost, unknown grey, lethal red, uncertain magenta, with
                                  the trajectory and the paths; upper faces drawn over lower ones
+  traversability_top_detail.png  the same top view over a --detail-m (40 m) wide window around the
+                                 middle of the first path (or of the trajectory), where the strip a
+                                 robot drove is wide enough to see; only when the map is wider
   traversability_reasons.png     the same top view coloured by why a face is not free (its
                                  `reasons` bits, named by the PLY's "reasons bits" header comment;
                                  when the map has both)
@@ -79,6 +82,8 @@ def parse_args(argv):
     parser.add_argument("--path-frame", choices=["mesh", "plan"], default="mesh",
                         help="x,y,z of the paths: mesh frame like the PLY (default), or plan metres")
     parser.add_argument("--trajectory", metavar="FILE", help="camera trajectory, KITTI pose format")
+    parser.add_argument("--detail-m", type=float, default=40.0, metavar="W",
+                        help="width of the detail view in metres (0: none; default 40)")
     parser.add_argument("-o", "--output-dir", metavar="OUT", help="where the PNGs go (default: MAP/plots)")
     parser.add_argument("--show-steiner", action="store_true",
                         help="also draw the faces through Steiner vertices (the lid that closes the map)")
@@ -249,9 +254,9 @@ def reason_colours(layers, bit_names):
     return colours, handles
 
 
-def top_view(plt, vertices, faces, colours, frame, paths, trajectory, title, handles, colorbar=True):
+def top_view(plt, vertices, faces, colours, frame, paths, trajectory, title, handles, colorbar=True, window=None):
     """Top view of the faces in `colours` (per face RGBA, the faces' order), with the trajectory
-    and the paths."""
+    and the paths; over `window` ((x0, x1), (y0, y1) in plan metres) if given, else over all."""
     from matplotlib.collections import PolyCollection
     from matplotlib.lines import Line2D
     up, plan_x, plan_y, scale = frame
@@ -266,7 +271,8 @@ def top_view(plt, vertices, faces, colours, frame, paths, trajectory, title, han
     points = [plan]
     if trajectory is not None:
         xy = np.column_stack([trajectory @ plan_x, trajectory @ plan_y]) * scale
-        axes.plot(xy[:, 0], xy[:, 1], color="black", linestyle="--", linewidth=1.2)
+        # Thin in a detail view: the strip the robot drove lies under it.
+        axes.plot(xy[:, 0], xy[:, 1], color="black", linestyle="--", linewidth=0.6 if window else 1.2)
         axes.plot(xy[0, 0], xy[0, 1], marker="o", color="black")
         handles.append(Line2D([], [], color="black", linestyle="--", label="camera trajectory"))
         points.append(xy)
@@ -280,8 +286,8 @@ def top_view(plt, vertices, faces, colours, frame, paths, trajectory, title, han
     everything = np.vstack(points)
     low, high = everything.min(axis=0), everything.max(axis=0)
     margin = 0.03 * max(float(np.max(high - low)), 1e-6)
-    axes.set_xlim(low[0] - margin, high[0] + margin)
-    axes.set_ylim(low[1] - margin, high[1] + margin)
+    axes.set_xlim(window[0] if window else (low[0] - margin, high[0] + margin))
+    axes.set_ylim(window[1] if window else (low[1] - margin, high[1] + margin))
     axes.set_aspect("equal")
     axes.set_xlabel("plan x (m)")
     axes.set_ylabel("plan y (m)")
@@ -324,6 +330,55 @@ def histograms(plt, layers, areas):
     return figure
 
 
+def detail_window(paths, trajectory_xy, extent, width_m):
+    """The detail view's ((x0, x1), (y0, y1)): `width_m` wide, 0.8 of that high, centred on the
+    middle (by length) of the first path, else of the trajectory; None without either, or when the
+    whole view (`extent`, its larger side) is no wider."""
+    line = paths[0][1] if paths else trajectory_xy
+    if width_m <= 0 or line is None or len(line) == 0 or width_m >= extent:
+        return None
+    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))])
+    centre = np.array([np.interp(0.5 * along[-1], along, line[:, k]) for k in range(2)])
+    return ((centre[0] - 0.5 * width_m, centre[0] + 0.5 * width_m),
+            (centre[1] - 0.4 * width_m, centre[1] + 0.4 * width_m))
+
+
+def class_shares(areas, layers):
+    """The text "P% traversable, P% lethal, P% uncertain, P% unknown" of these faces, by area."""
+    total = max(float(areas.sum()), 1e-12)
+    unknown = layers["unknown"] != 0
+    lethal = (layers["lethal"] != 0) & ~unknown
+    uncertain = (layers["uncertain"] != 0) if "uncertain" in layers else np.zeros(len(areas), bool)
+    return (f"{100 * areas[~unknown & ~lethal & ~uncertain].sum() / total:.1f}% traversable, "
+            f"{100 * areas[lethal].sum() / total:.1f}% lethal, "
+            f"{100 * areas[uncertain].sum() / total:.1f}% uncertain, "
+            f"{100 * areas[unknown].sum() / total:.1f}% unknown")
+
+
+def detail_view(plt, args, vertices, faces, layers, areas, frame, paths, trajectory, handles, output_dir):
+    """traversability_top_detail.png (a list of the one file written, or empty)."""
+    up, plan_x, plan_y, scale = frame
+    plan = np.column_stack([vertices @ plan_x, vertices @ plan_y]) * scale
+    trajectory_xy = None if trajectory is None else np.column_stack([trajectory @ plan_x, trajectory @ plan_y]) * scale
+    lines = [plan] + [xy for _, xy in paths] + ([trajectory_xy] if trajectory_xy is not None else [])
+    everything = np.vstack(lines)
+    window = detail_window(paths, trajectory_xy, float(np.max(everything.max(axis=0) - everything.min(axis=0))),
+                           args.detail_m)
+    if window is None:
+        return []
+    centroids = np.array([plan[f].mean(axis=0) for f in faces]) if len(faces) else np.zeros((0, 2))
+    inside = ((centroids[:, 0] >= window[0][0]) & (centroids[:, 0] <= window[0][1]) &
+              (centroids[:, 1] >= window[1][0]) & (centroids[:, 1] <= window[1][1]))
+    what = "the path's" if paths else "the trajectory's"
+    title = (f"Traversability, {args.detail_m:g} m around {what} middle; the faces centred here, by their area:\n"
+             + class_shares(areas[inside], {name: values[inside] for name, values in layers.items()}))
+    figure = top_view(plt, vertices, faces, class_colours(plt, layers), frame, paths, trajectory, title, handles,
+                      window=window)
+    path = common.save_png(figure, os.path.join(output_dir, "traversability_top_detail.png"))
+    plt.close(figure)
+    return [path]
+
+
 def main(argv=None):
     args = parse_args(argv)
     ply_path = args.ply or os.path.join(args.map_dir, "traversability.ply")
@@ -354,22 +409,17 @@ def main(argv=None):
     view_faces = faces[shown] if isinstance(faces, np.ndarray) else [f for f, keep in zip(faces, shown) if keep]
     view_layers = {name: values[shown] for name, values in layers.items()}
     shown_areas = areas[shown]
-    total = max(float(shown_areas.sum()), 1e-12)
-    unknown = view_layers["unknown"] != 0
-    lethal = (view_layers["lethal"] != 0) & ~unknown
-    uncertain = (view_layers["uncertain"] != 0) if "uncertain" in view_layers else np.zeros(len(shown_areas), bool)
     counts = (f"{len(view_layers['cost'])} of {len(areas)} faces drawn (facing up"
               f"{'' if args.show_steiner else ', measured'}); by their area:\n"
-              f"{100 * shown_areas[~unknown & ~lethal & ~uncertain].sum() / total:.1f}% traversable, "
-              f"{100 * shown_areas[lethal].sum() / total:.1f}% lethal, "
-              f"{100 * shown_areas[uncertain].sum() / total:.1f}% uncertain, "
-              f"{100 * shown_areas[unknown].sum() / total:.1f}% unknown")
+              + class_shares(shown_areas, view_layers))
     class_handles = [Patch(color=UNKNOWN_RGBA, label="unknown"), Patch(color=LETHAL_RGBA, label="lethal"),
                      Patch(color=UNCERTAIN_RGBA, label="uncertain")]
     figure = top_view(plt, vertices, view_faces, class_colours(plt, view_layers), frame, paths, trajectory,
                       "Traversability, top view\n" + counts, class_handles)
     written.append(common.save_png(figure, os.path.join(output_dir, "traversability_top.png")))
     plt.close(figure)
+    written += detail_view(plt, args, vertices, view_faces, view_layers, shown_areas, frame, paths, trajectory,
+                           class_handles, output_dir)
     bit_names = reason_bit_names(ply_path)
     if "reasons" in view_layers and bit_names:
         colours, handles = reason_colours(view_layers, bit_names)

@@ -311,6 +311,28 @@ class TraversabilityFiguresTest(ScriptCase):
         self.assertGreater(share_of_colour(reasons, (0.55, 0.8, 0.55)), 0.1)
         self.assertEqual(share_of_colour(reasons, (0.85, 0.0, 0.0)), 0.0, "no class red in the reasons view")
         self.assert_png(self.path("map", "plots", "traversability_histograms.png"), 1200, 700)
+        # The 40 m detail view is no closer than the whole 10 m map: not drawn.
+        self.assertFalse(os.path.exists(self.path("map", "plots", "traversability_top_detail.png")))
+
+    def test_detail_view_zooms_on_the_paths_middle(self):
+        write_map(self.path("map"))
+        self.write_path(os.path.join("map", "path.csv"), [(2.5, 1.0, 0.0), (6.0, 4.0, 0.0), (9.5, 7.0, 0.0)])
+        result = self.run_script("traversability_figures.py", self.path("map"), "--detail-m", "3", "-o", self.path("f"))
+        self.assert_ok(result)
+        top = self.assert_png(self.path("f", "traversability_top.png"), 1200, 1000)
+        detail = self.assert_png(self.path("f", "traversability_top_detail.png"), 1200, 1000)
+        self.assertIn(self.path("f", "traversability_top_detail.png"), result.stdout)
+        # A 3 m window around the path's middle, (6, 4): x from 4.5 to 7.5, away from the lethal
+        # (x >= 10, red) and unknown (x < 2, grey) cells the whole view shows (only the legend's
+        # patches keep those colours); the path crosses it.
+        red, grey = (0.85, 0.0, 0.0), (0.62, 0.62, 0.62)
+        self.assertGreater(share_of_colour(top, red), 0.02)
+        self.assertLess(share_of_colour(detail, red), 0.001)
+        self.assertLess(share_of_colour(detail, grey), 0.001)
+        self.assertGreater(share_of_colour(detail, (0.0, 1.0, 1.0), 0.05), 0.0005)
+        result = self.run_script("traversability_figures.py", self.path("map"), "--detail-m", "0", "-o", self.path("g"))
+        self.assert_ok(result)
+        self.assertFalse(os.path.exists(self.path("g", "traversability_top_detail.png")))
 
     def test_kitti_up_axis_scale_and_several_paths(self):
         write_map(self.path("map"), up_axis=1, metres_per_unit=16.589)
