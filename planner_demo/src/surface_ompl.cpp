@@ -131,6 +131,19 @@ SurfaceStateSampler::SurfaceStateSampler(const SurfaceStateSpace* space, std::ui
   }
 }
 
+double SurfaceStateSampler::sampleYaw(std::uint32_t f) {
+  const int n = graph_.config().heading_count;
+  if (!graph_.config().omni || n == 0 || rng_.uniform01() < 0.5) return rng_.uniformReal(-M_PI, M_PI);
+  std::vector<int> fitting;
+  for (int k = 0; k < n; ++k) {
+    if (graph_.judgedHeadingFits(f, k)) fitting.push_back(k);
+  }
+  if (fitting.empty()) return rng_.uniformReal(-M_PI, M_PI);
+  const int k = fitting[static_cast<std::size_t>(rng_.uniformInt(0, static_cast<int>(fitting.size()) - 1))];
+  const double yaw = headingAbout(graph_.judgedHeading(k), graph_.up());
+  return rng_.uniform01() < 0.5 ? yaw : std::remainder(yaw + M_PI, 2.0 * M_PI);
+}
+
 void SurfaceStateSampler::sampleUniform(ompl::base::State* state) {
   State& out = st(state);
   out.yaw = rng_.uniformReal(-M_PI, M_PI);
@@ -143,6 +156,8 @@ void SurfaceStateSampler::sampleUniform(ompl::base::State* state) {
   const auto& t = graph_.face(f);
   const double r1 = std::sqrt(rng_.uniform01()), r2 = rng_.uniform01();
   out.face = f;
+  // (A body facing its travel keeps the draw above: the same stream of numbers as before.)
+  if (graph_.config().omni) out.yaw = sampleYaw(f);
   out.point_W = (1 - r1) * graph_.vertex(t[0]) + r1 * (1 - r2) * graph_.vertex(t[1]) + r1 * r2 * graph_.vertex(t[2]);
 }
 
@@ -155,7 +170,7 @@ void SurfaceStateSampler::walkFrom(ompl::base::State* state, const ompl::base::S
   State& out = st(state);
   out.face = walk.points.back().face;
   out.point_W = walk.points.back().point_W;
-  out.yaw = rng_.uniformReal(-M_PI, M_PI);
+  out.yaw = sampleYaw(out.face);
 }
 
 void SurfaceStateSampler::sampleUniformNear(ompl::base::State* state, const ompl::base::State* near, double distance) {

@@ -86,6 +86,10 @@ class SurfaceStateSampler : public ompl::base::StateSampler {
 
  private:
   void walkFrom(ompl::base::State* state, const ompl::base::State* near, double distance_m);
+  /// A heading for a state on face f: uniform; or, for a body that keeps its own heading, half
+  /// the time one of the judged headings f fits (either way round), which a uniform draw meets
+  /// with probability 0 where f fits no two neighbouring ones.
+  double sampleYaw(std::uint32_t f);
   const FaceGraph& graph_;
   std::vector<double> cumulative_area_;
 };

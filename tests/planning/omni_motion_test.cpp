@@ -125,5 +125,25 @@ TEST(OmniMotionTest, PlannersReportTheBodysHeadingAsTheYaw) {
   }
 }
 
+TEST(OmniMotionTest, SamplingPlannersFindTheOneHeadingThatFits) {
+  // Only 90 deg fits in the band: a uniformly drawn yaw fits there with probability 0, so the
+  // sampler also draws the headings a face fits.
+  const FaceGraph omni(bandMap(0b00010000), headings(true));
+  setOmplLogging(false);
+  for (const char* name : {"rrtstar", "bitstar"}) {
+    PlannerConfig config;
+    config.planner = name;
+    config.time_budget_s = 0.5;
+    config.time_cap_s = 60;
+    config.seed = 5;
+    const PlanResult result = planOnSurface(omni, {2, 5, 0}, {18, 5, 0}, config);
+    ASSERT_TRUE(result.solved()) << name << ": " << result.reason;
+    for (std::size_t i = 0; i < result.states.size(); ++i) {
+      const PathState& state = result.states[i];
+      EXPECT_TRUE(omni.headingFits(state.location.face, along(state.yaw_rad * 180 / M_PI))) << name << " state " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace terramesh::planning
