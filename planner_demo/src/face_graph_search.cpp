@@ -99,7 +99,7 @@ GraphPath FaceGraph::shortestPath(const SurfaceLocation& start, const SurfaceLoc
   if (!walkable_[start.face] || !walkable_[goal.face]) return result;
   if (components_[start.face] != components_[goal.face]) return result;
   const auto k = static_cast<std::uint32_t>(points_per_edge);
-  if (config_.omni && config_.heading_count > 0) return omniShortestPath(start, goal, k);
+  if (keepsOwnHeading()) return omniShortestPath(start, goal, k);
 
   const std::size_t edge_nodes = edge_vertices_.size() * k;
   const auto start_node = static_cast<std::uint32_t>(edge_nodes);

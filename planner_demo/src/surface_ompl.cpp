@@ -43,7 +43,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> tangentBasis(const Eigen::Vector3d& 
 }  // namespace
 
 std::optional<BodyTurn> bodyTurn(const FaceGraph& graph, double yaw_from, double yaw_to) {
-  if (!graph.config().omni || graph.config().heading_count == 0) return std::nullopt;
+  if (!graph.keepsOwnHeading()) return std::nullopt;
   return BodyTurn{geometry::headingDirection(yaw_from, graph.up()), angleDifference(yaw_from, yaw_to)};
 }
 
@@ -133,7 +133,7 @@ SurfaceStateSampler::SurfaceStateSampler(const SurfaceStateSpace* space, std::ui
 
 double SurfaceStateSampler::sampleYaw(std::uint32_t f) {
   const int n = graph_.config().heading_count;
-  if (!graph_.config().omni || n == 0 || rng_.uniform01() < 0.5) return rng_.uniformReal(-M_PI, M_PI);
+  if (!graph_.keepsOwnHeading() || rng_.uniform01() < 0.5) return rng_.uniformReal(-M_PI, M_PI);
   std::vector<int> fitting;
   for (int k = 0; k < n; ++k) {
     if (graph_.judgedHeadingFits(f, k)) fitting.push_back(k);
@@ -157,7 +157,7 @@ void SurfaceStateSampler::sampleUniform(ompl::base::State* state) {
   const double r1 = std::sqrt(rng_.uniform01()), r2 = rng_.uniform01();
   out.face = f;
   // (A body facing its travel keeps the draw above: the same stream of numbers as before.)
-  if (graph_.config().omni) out.yaw = sampleYaw(f);
+  if (graph_.keepsOwnHeading()) out.yaw = sampleYaw(f);
   out.point_W = (1 - r1) * graph_.vertex(t[0]) + r1 * (1 - r2) * graph_.vertex(t[1]) + r1 * r2 * graph_.vertex(t[2]);
 }
 
@@ -188,8 +188,7 @@ bool SurfaceValidityChecker::isValid(const ompl::base::State* state) const {
   const std::uint32_t f = st(state).face;
   if (f >= graph_.faceCount() || !graph_.walkable(f)) return false;
   // A body that keeps its own heading must fit at it.
-  const auto body = bodyTurn(graph_, st(state).yaw, st(state).yaw);
-  return !body || graph_.turnFits(f, body->from_W, 0.0);
+  return !graph_.keepsOwnHeading() || graph_.headingFits(f, geometry::headingDirection(st(state).yaw, graph_.up()));
 }
 
 double SurfaceValidityChecker::clearance(const ompl::base::State* state) const {

@@ -108,7 +108,7 @@ void densify(const FaceGraph& graph, const std::vector<SurfaceLocation>& points,
 double endYaw(const FaceGraph& graph, std::uint32_t face, const Eigen::Vector3d& straight) {
   const double along = straight.norm() > 0 ? headingAbout(straight, graph.up()) : 0.0;
   const int n = graph.config().heading_count;
-  if (!graph.config().omni || n == 0) return along;
+  if (!graph.keepsOwnHeading()) return along;
   if (graph.headingFits(face, geometry::headingDirection(along, graph.up()))) return along;
   double best = along, best_turn = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 2 * n; ++k) {  // both ends of each judged heading
@@ -236,10 +236,10 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
   const ompl::geometric::PathGeometric& path = setup.getSolutionPath();
   std::vector<SurfaceLocation> dense;
   std::vector<double> body_yaws;  // a body that keeps its own heading: its yaw at each dense point
+  const bool own_heading = graph.keepsOwnHeading();
   for (std::size_t i = 0; i < path.getStateCount(); ++i) {
     const auto* state = path.getState(i)->as<SurfaceStateSpace::StateType>();
     result.waypoints.push_back(pathState(graph, state->location(), state->yaw));
-    const bool own_heading = internal::bodyTurn(graph, state->yaw, state->yaw).has_value();
     if (i == 0) {
       dense.push_back(state->location());
       if (own_heading) body_yaws.push_back(state->yaw);

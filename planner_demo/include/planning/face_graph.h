@@ -147,6 +147,8 @@ class FaceGraph {
   double metresPerUnit() const { return metres_per_unit_; }
   const Eigen::Vector3d& up() const { return up_W_; }
   const WalkabilityConfig& config() const { return config_; }
+  /// Whether the body keeps a heading of its own (WalkabilityConfig::omni, with judged headings).
+  bool keepsOwnHeading() const { return config_.omni && config_.heading_count > 0; }
   const traversability::FaceLayers& layers(std::uint32_t f) const { return layers_[f]; }
 
   /// Whether the robot may cross walkable face f travelling along `direction_W` (its horizontal
