@@ -158,6 +158,10 @@ void CheckpointAccess::readTriangulation(MapState& state, ByteReader& in, Handle
 
 void CheckpointAccess::writeGridAndHash(const MapState& state, ByteWriter& out, const Numbering& numbering) {
   const SteinerGrid& grid = state.grid;
+  if (grid.sparse_) {
+    throw std::logic_error("saveCheckpoint: the mesher let go of Steiner nodes (Mesher::releaseFarSteiner, the online "
+                           "freeze); its sparse lattice is not checkpointed");
+  }
   out.f64(grid.step_);
   out.f64(grid.origin_.x());
   out.f64(grid.origin_.y());

@@ -23,6 +23,12 @@ UpdateStats Mesher::removePoints(const std::vector<PointId>& points) {
   return impl_->removePoints(points);
 }
 UpdateStats Mesher::removeKeyframe(KeyframeId keyframe) { return impl_->removeKeyframe(keyframe); }
+UpdateStats Mesher::removeKeyframes(const std::vector<KeyframeId>& keyframes) {
+  return impl_->removeKeyframes(keyframes);
+}
+UpdateStats Mesher::releaseFarSteiner(const std::vector<Eigen::Vector3d>& keep_W, double reach_m) {
+  return impl_->releaseFarSteiner(keep_W, reach_m);
+}
 TriangleMesh Mesher::extractMesh() const { return impl_->extractMesh(); }
 std::uint64_t Mesher::revision() const { return impl_->revision(); }
 SurfaceDelta Mesher::changesSince(std::uint64_t revision) const { return impl_->changesSince(revision); }

@@ -240,17 +240,29 @@ UpdateStats Mesher::Impl::removePoints(const std::vector<PointId>& ids) {
   return run(plan, stats);
 }
 
-UpdateStats Mesher::Impl::removeKeyframe(KeyframeId id) {
+UpdateStats Mesher::Impl::removeKeyframe(KeyframeId id) { return removeKeyframes({id}); }
+
+UpdateStats Mesher::Impl::removeKeyframes(const std::vector<KeyframeId>& ids) {
   internal::PointRegistry& registry = state_.registry;
-  const std::uint32_t k = registry.findKeyframe(id);
-  if (k == kNone) return {};
+  std::vector<std::uint32_t> gone;
+  std::vector<std::uint32_t> touched;
+  for (const KeyframeId& id : ids) {
+    const std::uint32_t k = registry.findKeyframe(id);
+    if (k == kNone || std::find(gone.begin(), gone.end(), k) != gone.end()) continue;
+    gone.push_back(k);
+    for (std::uint32_t index : registry.takeKeyframePoints(k)) {
+      eraseValue(registry.point(index).keyframes, k);
+      touched.push_back(index);
+    }
+  }
+  if (gone.empty()) return {};
+  // A point seen by two of them is classified once, in the order a single removal would.
+  if (gone.size() > 1) sortUnique(touched);
   UpdatePlan plan;
   UpdateStats stats;
-  const std::vector<std::uint32_t> touched = registry.takeKeyframePoints(k);
-  for (std::uint32_t index : touched) eraseValue(registry.point(index).keyframes, k);
   for (std::uint32_t index : touched) classifyPoint(index, plan, stats);
   stats = run(plan, stats);
-  registry.eraseKeyframe(k);
+  for (std::uint32_t k : gone) registry.eraseKeyframe(k);
   return stats;
 }
 

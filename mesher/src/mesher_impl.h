@@ -24,6 +24,8 @@ class Mesher::Impl {
   UpdateStats integrateKeyframe(const Keyframe& keyframe);
   UpdateStats removePoints(const std::vector<PointId>& points);
   UpdateStats removeKeyframe(KeyframeId keyframe);
+  UpdateStats removeKeyframes(const std::vector<KeyframeId>& keyframes);
+  UpdateStats releaseFarSteiner(const std::vector<Eigen::Vector3d>& keep_W, double reach_m);
 
   TriangleMesh extractMesh() const;
   std::uint64_t revision() const { return state_.surface_log.revision(); }

@@ -53,6 +53,7 @@ std::vector<Eigen::Vector3d> SteinerGrid::coverBox(const Eigen::Vector3d& min,
   const GridKey b = cellOf(max);
   GridKey lo{a.i - margin, a.j - margin, a.k - margin};
   GridKey hi{b.i + 1 + margin, b.j + 1 + margin, b.k + 1 + margin};
+  if (sparse_) return addNodes(lo, hi);
   if (initialized_) {
     if (lo.i >= lo_.i && lo.j >= lo_.j && lo.k >= lo_.k && hi.i <= hi_.i && hi.j <= hi_.j &&
         hi.k <= hi_.k) {
@@ -83,7 +84,38 @@ std::vector<Eigen::Vector3d> SteinerGrid::growNodeBox(const GridKey& lo, const G
   return added;
 }
 
+std::vector<Eigen::Vector3d> SteinerGrid::addNodes(const GridKey& lo, const GridKey& hi) {
+  std::vector<Eigen::Vector3d> added;
+  for (std::int32_t i = lo.i; i <= hi.i; ++i) {
+    for (std::int32_t j = lo.j; j <= hi.j; ++j) {
+      for (std::int32_t k = lo.k; k <= hi.k; ++k) {
+        if (present_.insert({i, j, k}).second) added.push_back(nodePosition({i, j, k}));
+      }
+    }
+  }
+  if (!initialized_) {
+    lo_ = lo;
+    hi_ = hi;
+    initialized_ = true;
+  }
+  lo_ = {std::min(lo.i, lo_.i), std::min(lo.j, lo_.j), std::min(lo.k, lo_.k)};
+  hi_ = {std::max(hi.i, hi_.i), std::max(hi.j, hi_.j), std::max(hi.k, hi_.k)};
+  return added;
+}
+
+void SteinerGrid::makeSparse() {
+  if (sparse_) return;
+  sparse_ = true;
+  if (!initialized_) return;
+  for (std::int32_t i = lo_.i; i <= hi_.i; ++i) {
+    for (std::int32_t j = lo_.j; j <= hi_.j; ++j) {
+      for (std::int32_t k = lo_.k; k <= hi_.k; ++k) present_.insert({i, j, k});
+    }
+  }
+}
+
 std::size_t SteinerGrid::nodeCount() const {
+  if (sparse_) return present_.size();
   if (!initialized_) return 0;
   return static_cast<std::size_t>(hi_.i - lo_.i + 1) * static_cast<std::size_t>(hi_.j - lo_.j + 1) *
          static_cast<std::size_t>(hi_.k - lo_.k + 1);

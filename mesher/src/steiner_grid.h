@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <unordered_set>
 #include <vector>
 
 #include "grid_key.h"
@@ -9,7 +10,9 @@ namespace terramesh::mesher::internal {
 
 /// The lattice of Steiner points, spacing `step` map units. Cell (i,j,k) spans the nodes i..i+1 on
 /// each axis. The grid grows by whole layers of nodes, so it always fills an axis-aligned box of
-/// nodes [lo, hi] (inclusive, per axis).
+/// nodes [lo, hi] (inclusive, per axis) - until it is made sparse (the online freeze,
+/// Mesher::releaseFarSteiner): then it holds the nodes asked for and not released, and [lo, hi]
+/// bounds every node it ever held.
 ///
 /// The lattice is offset from the first camera by an irregular fraction of the step, so that
 /// synthetic data on round coordinates does not sit exactly on Steiner nodes or planes.
@@ -41,6 +44,13 @@ class SteinerGrid {
   /// True if cell `key` lies at least `margin_cells` inside the node box.
   bool coversCell(const GridKey& key, int margin_cells) const;
 
+  /// From now on coverBox adds only the nodes of the box asked for, and release() takes nodes out.
+  void makeSparse();
+  bool sparse() const { return sparse_; }
+  /// Takes node `node` out of a sparse grid (its vertex left the triangulation); a later coverBox
+  /// over it adds it again.
+  void release(const GridKey& node) { present_.erase(node); }
+
   GridKey lowerNode() const { return lo_; }
   GridKey upperNode() const { return hi_; }
   std::size_t nodeCount() const;
@@ -49,6 +59,8 @@ class SteinerGrid {
   friend class CheckpointAccess;
 
   std::vector<Eigen::Vector3d> growNodeBox(const GridKey& lo, const GridKey& hi);
+  /// Sparse: adds the nodes of [lo, hi] not held yet.
+  std::vector<Eigen::Vector3d> addNodes(const GridKey& lo, const GridKey& hi);
 
   double step_;
   Eigen::Vector3d origin_shift_;
@@ -56,6 +68,8 @@ class SteinerGrid {
   bool initialized_ = false;
   GridKey lo_;
   GridKey hi_;
+  bool sparse_ = false;
+  std::unordered_set<GridKey, GridKeyHash> present_;  ///< the nodes of a sparse grid
 };
 
 }  // namespace terramesh::mesher::internal

@@ -20,6 +20,7 @@ UpdateStats& UpdateStats::operator+=(const UpdateStats& other) {
   duplicate_points += other.duplicate_points;
   deferred_points += other.deferred_points;
   steiner_points += other.steiner_points;
+  steiner_released += other.steiner_released;
   observations += other.observations;
   observations_too_far += other.observations_too_far;
   points_waiting += other.points_waiting;

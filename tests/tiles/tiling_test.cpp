@@ -208,6 +208,16 @@ TEST(ClassAgreement, AreaOfChangedClasses) {
   const ClassAgreement beside = classAgreement(a, b, PlanRect{10, 0, 30, 10}, levels, 0.25);
   EXPECT_DOUBLE_EQ(beside.fraction(), 1.0);
   EXPECT_NEAR(beside.compared_m2, 200.0, 1e-9);
+  EXPECT_DOUBLE_EQ(self.only_a_m2, 0.0);
+  // A map of the floor from x = 10 on: the 100 m^2 before it are a's alone, and nothing is b's alone.
+  traversability::LayeredMesh part;
+  part.mesh = test::heightFieldMesh(10, 30, 0, 10, 1.0, [](double, double) { return 0.0; });
+  part.layers.assign(part.mesh.faces.size(), a.layers.front());
+  const ClassAgreement missing = classAgreement(a, part, PlanRect{0, 0, 30, 10}, levels, 0.25);
+  EXPECT_NEAR(missing.compared_m2, 200.0, 1e-9);
+  EXPECT_NEAR(missing.only_a_m2, 100.0, 1e-9);
+  EXPECT_DOUBLE_EQ(missing.fraction(), 1.0);
+  EXPECT_DOUBLE_EQ(classAgreement(part, a, PlanRect{0, 0, 30, 10}, levels, 0.25).only_a_m2, 0.0);
   EXPECT_THROW(classAgreement(a, b, PlanRect{0, 0, 1, 1}, levels, 0), std::invalid_argument);
 }
 
@@ -227,15 +237,24 @@ TEST(TileFiles, PlanRoundTripAndFieldErrors) {
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(first), {}), std::string(std::istreambuf_iterator<char>(second), {}));
 
   std::ifstream in(dir / "plan.json");
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  const std::string renamed = text.replace(text.find("\"tile_001\""), 10, "\"tile_009\"");
-  std::ofstream(dir / "bad.json") << renamed;
-  try {
-    readTilePlan(dir / "bad.json");
-    FAIL() << "no throw";
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.where(), "tiles[1].name");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  // A name is "tile_" and three or more digits, and names one tile only (a frozen drive's tiles keep
+  // the names of the order it reached them in, so tile_009 may stand second).
+  for (const char* name : {"\"tile_000\"", "\"tile_1\"", "\"../x_001\""}) {
+    std::string renamed = text;
+    renamed.replace(renamed.find("\"tile_001\""), 10, name);
+    std::ofstream(dir / "bad.json") << renamed;
+    try {
+      readTilePlan(dir / "bad.json");
+      FAIL() << "no throw for " << name;
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.where(), "tiles[1].name") << name;
+    }
   }
+  std::string renamed = text;
+  renamed.replace(renamed.find("\"tile_001\""), 10, "\"tile_009\"");
+  std::ofstream(dir / "good.json") << renamed;
+  EXPECT_EQ(readTilePlan(dir / "good.json").tiles[1].name, "tile_009");
   EXPECT_THROW(readTilePlan(dir / "missing.json"), InputError);
 }
 

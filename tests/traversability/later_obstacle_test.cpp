@@ -88,6 +88,27 @@ TEST(DrivenSamplesTest, AKeyframeThatStartsADriveHasStationsBackToItsFootprintsR
   EXPECT_LT(rear, 13.0);
 }
 
+TEST(DrivenSamplesTest, PointsForgottenBeyondTheKeptKeyframesAreJudgedAgain) {
+  // The online freeze forgets the points of a region left behind: one the drive left out (inside
+  // the body) and one it kept track of. Seen again from elsewhere, the first is not left out any
+  // more; the counts of what was left out stay.
+  TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
+  mesher::Keyframe first = cameraAt(1, {0, 0, 1});
+  first.observations = {observation(10, {0.1, 0, 0.5}), observation(14, {5, 0, 0.5})};
+  evidence.augment(first);
+  ASSERT_EQ(evidence.contradictedCount(), 1u);
+  EXPECT_EQ(evidence.forgetPointsBeyond({Eigen::Vector3d(20, 0, 1)}, 30.0), 0u);  // both within 30 m
+  EXPECT_EQ(evidence.forgetPointsBeyond({Eigen::Vector3d(200, 0, 1)}, 30.0), 2u);
+  EXPECT_EQ(evidence.forgetPointsBeyond({Eigen::Vector3d(200, 0, 1)}, 30.0), 0u);
+  EXPECT_EQ(evidence.contradictedCount(), 1u);
+  mesher::Keyframe later = cameraAt(2, {0, 3, 1}, Eigen::Vector3d::UnitY());
+  later.observations = {observation(10, {0.1, 0, 0.5})};
+  const mesher::Keyframe augmented = evidence.augment(later);
+  const bool seen = std::any_of(augmented.observations.begin(), augmented.observations.end(),
+                                [](const mesher::PointObservation& o) { return o.point.value == 10; });
+  EXPECT_TRUE(seen);
+}
+
 TEST(DrivenSamplesTest, TheSweepSpansLongGapsAlongTheHeadingButNotAroundATurn) {
   TrajectoryEvidence evidence(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), {});
   evidence.augment(cameraAt(1, {0, 0, 1}));

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
 #include "common/input_error.h"
@@ -34,7 +35,11 @@ TileSpec readTile(const json::FieldReader& json, const nlohmann::json& item, std
   tile.index = json.count(item, "index", path);
   if (tile.index != i) json.fail(json::FieldReader::join(path, "index"), "expected " + std::to_string(i) + " (tiles in order)");
   tile.name = json.string(item, "name", path);
-  if (tile.name != tileName(i)) json.fail(json::FieldReader::join(path, "name"), "expected \"" + tileName(i) + "\"");
+  // "tile_" and three or more digits: a folder beside the plan (a frozen drive numbers its tiles in
+  // the order the drive reached them, so a name need not be its position's).
+  const bool digits = tile.name.size() >= 8 && tile.name.compare(0, 5, "tile_") == 0 &&
+                      std::all_of(tile.name.begin() + 5, tile.name.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (!digits) json.fail(json::FieldReader::join(path, "name"), "expected \"tile_\" and three or more digits");
   tile.column = json.integer(item, "column", path);
   tile.row = json.integer(item, "row", path);
   tile.bounds = readRect(json, item, path);
@@ -91,11 +96,15 @@ TilePlan readTilePlan(const std::filesystem::path& path) {
                  json.number(extent, "max_x", "extent_m"), json.number(extent, "max_y", "extent_m")};
   const nlohmann::json& tiles = json.array(root, "tiles", "");
   if (tiles.empty()) json.fail("tiles", "expected at least one tile");
+  std::set<std::string> names;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     plan.tiles.push_back(readTile(json, tiles[i], i));
     if (i > 0 && std::make_pair(plan.tiles[i - 1].row, plan.tiles[i - 1].column) >=
                      std::make_pair(plan.tiles[i].row, plan.tiles[i].column)) {
       json.fail("tiles[" + std::to_string(i) + "]", "expected tiles sorted by row, then column, each cell once");
+    }
+    if (!names.insert(plan.tiles[i].name).second) {
+      json.fail("tiles[" + std::to_string(i) + "].name", "\"" + plan.tiles[i].name + "\" names another tile too");
     }
   }
   return plan;

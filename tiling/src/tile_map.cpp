@@ -25,10 +25,14 @@ void compareGrids(const LevelGrid& grid_a, const LevelGrid& grid_b, const PlanRe
       const double row_b = std::floor((centre.y() - grid_b.origin_y_m) / r);
       if (col_b < 0 || row_b < 0 || col_b >= static_cast<double>(grid_b.width) ||
           row_b >= static_cast<double>(grid_b.height)) {
+        result.only_a_m2 += r * r;
         continue;
       }
       const std::size_t cell_b = grid_b.index(static_cast<std::size_t>(col_b), static_cast<std::size_t>(row_b));
-      if (grid_b.face[cell_b] < 0) continue;
+      if (grid_b.face[cell_b] < 0) {
+        result.only_a_m2 += r * r;
+        continue;
+      }
       result.compared_m2 += r * r;
       const traversability::FaceClass a = grid_a.cell_class[cell], b = grid_b.cell_class[cell_b];
       if (a == b) result.agreeing_m2 += r * r;
@@ -116,7 +120,12 @@ ClassAgreement classAgreement(const LayeredMesh& a, const LayeredMesh& b, const 
         best = lb;
       }
     }
-    if (best == levels_b.count()) continue;
+    if (best == levels_b.count()) {
+      // A level `b` does not have: all of it is a's alone.
+      const LevelGrid alone = traversability::rasterizeLevel(a, plane, levels_a, la, cell_m);
+      compareGrids(alone, LevelGrid{}, region, result);
+      continue;
+    }
     compareGrids(traversability::rasterizeLevel(a, plane, levels_a, la, cell_m),
                  traversability::rasterizeLevel(b, plane, levels_b, best, cell_m), region, result);
   }

@@ -91,6 +91,12 @@ traversability::ExportReport writeOverview(const std::filesystem::path& plan_pat
   overview.write_mesh_map_h5 = false;
   overview.write_layered_ply = false;
   overview.levels = config.levels;
+  if (config.compare_with) {
+    const traversability::LayeredMesh other = traversability::readMapDirectory(*config.compare_with).map;
+    report.compared = classAgreement(joined, other, plan.extent, config.levels, config.border_cell_m);
+    report.compared_only_other_m2 =
+        classAgreement(other, joined, plan.extent, config.levels, config.border_cell_m).only_a_m2;
+  }
   return traversability::writeMapDirectory(plan_path.parent_path() / kOverviewName, joined, *profile, overview);
 }
 

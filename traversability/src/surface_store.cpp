@@ -213,11 +213,16 @@ void SurfaceStore::unlink(Slot s) {
   for (std::int64_t i = cellIndex(f.box_min.x()); i <= cellIndex(f.box_max.x()); ++i) {
     for (std::int64_t j = cellIndex(f.box_min.y()); j <= cellIndex(f.box_max.y()); ++j) {
       const auto it = grid_.find(cellKey(i, j));
-      if (it != grid_.end()) eraseEntry(it.value());
+      if (it == grid_.end()) continue;
+      eraseEntry(it.value());
+      // Empty cells go: the grid holds the faces' area, not every cell they ever covered.
+      if (it->second.empty()) grid_.erase(it);
     }
   }
   const auto it = centroid_grid_.find(centroidCellKey(f.centroid_L));
-  if (it != centroid_grid_.end()) erase(it.value());
+  if (it == centroid_grid_.end()) return;
+  erase(it.value());
+  if (it->second.empty()) centroid_grid_.erase(it);
 }
 
 void SurfaceStore::neighbours(Slot s, std::vector<Slot>& out) const {

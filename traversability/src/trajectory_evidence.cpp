@@ -11,6 +11,7 @@
 #include <utility>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 
 #include "ground_frame.h"
@@ -268,9 +269,10 @@ bool TrajectoryEvidence::onRecordedDrivenGround(const Eigen::Vector3d& p_W) cons
   return found;
 }
 
-void TrajectoryEvidence::leaveOut(mesher::PointId id, bool absorbed) {
-  if (!contradicted_.insert(id.value).second) return;
+void TrajectoryEvidence::leaveOut(mesher::PointId id, const Eigen::Vector3d& p_W, bool absorbed) {
+  if (!contradicted_.emplace(id.value, bodies_->plane.project(p_W)).second) return;
   absorbed_count_ += absorbed ? 1 : 0;
+  contradicted_count_ += absorbed ? 0 : 1;
   newly_contradicted_.push_back(id);
   const auto it = bodies_->positions_W.find(id.value);
   if (it == bodies_->positions_W.end()) return;
@@ -278,31 +280,63 @@ void TrajectoryEvidence::leaveOut(mesher::PointId id, bool absorbed) {
   bodies_->positions_W.erase(it);
 }
 
+std::size_t TrajectoryEvidence::forgetPointsBeyond(const std::vector<Eigen::Vector3d>& keep_W, double radius_m) {
+  const double radius = radius_m / metres_per_unit_;
+  internal::HorizontalGrid<std::size_t> keep(keep_W, bodies_->plane, radius);
+  const auto far = [&](const Eigen::Vector2d& at) {
+    bool near = false;
+    keep.around(at, [&](std::size_t i) { near = near || (bodies_->plane.project(keep_W[i]) - at).norm() <= radius; });
+    return !near;
+  };
+  std::size_t forgotten = 0;
+  for (auto it = bodies_->positions_W.begin(); it != bodies_->positions_W.end();) {
+    const Eigen::Vector2d at = bodies_->plane.project(it->second);
+    if (!far(at)) {
+      ++it;
+      continue;
+    }
+    bodies_->point_cells.erase(at, it->first);
+    bodies_->seen_points.erase(it->first);
+    it = bodies_->positions_W.erase(it);
+    ++forgotten;
+  }
+  for (auto it = contradicted_.begin(); it != contradicted_.end();) {
+    if (!far(it->second)) {
+      ++it;
+      continue;
+    }
+    bodies_->seen_points.erase(it->first);
+    it = contradicted_.erase(it);
+    ++forgotten;
+  }
+  return forgotten;
+}
+
 void TrajectoryEvidence::dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B,
                                           std::size_t new_bodies) {
   newly_contradicted_.clear();
   // The points seen before, under the bodies new with this keyframe (its own and its stations').
-  std::vector<std::pair<std::uint64_t, bool>> found;
+  std::vector<std::tuple<std::uint64_t, Eigen::Vector3d, bool>> found;
   for (std::size_t b = 0; b < new_bodies && b < bodies_W_B.size(); ++b) {
     const Eigen::Isometry3d& T_W_B = bodies_W_B[b];
     bodies_->point_cells.around(bodies_->plane.project(T_W_B.translation()), [&](std::uint64_t id) {
       const Eigen::Vector3d& p_W = bodies_->positions_W.at(id);
-      if (insideBody(T_W_B, p_W)) found.emplace_back(id, false);
-      else if (onDrivenGround(T_W_B, p_W)) found.emplace_back(id, true);
+      if (insideBody(T_W_B, p_W)) found.emplace_back(id, p_W, false);
+      else if (onDrivenGround(T_W_B, p_W)) found.emplace_back(id, p_W, true);
     });
   }
-  for (const auto& [id, absorbed] : found) leaveOut(mesher::PointId{id}, absorbed);
+  for (const auto& [id, p_W, absorbed] : found) leaveOut(mesher::PointId{id}, p_W, absorbed);
   // The points this keyframe sees: inside a body of this keyframe's drive, or on any drive's ground.
   const auto left_out = [&](const mesher::PointObservation& o) {
     if (contradicted_.count(o.point.value) != 0) return true;
     for (const Eigen::Isometry3d& T_W_B : bodies_W_B) {
       const bool inside = insideBody(T_W_B, o.position_W);
       if (!inside && !onDrivenGround(T_W_B, o.position_W)) continue;
-      leaveOut(o.point, !inside);
+      leaveOut(o.point, o.position_W, !inside);
       return true;
     }
     if (!onRecordedDrivenGround(o.position_W)) return false;
-    leaveOut(o.point, true);
+    leaveOut(o.point, o.position_W, true);
     return true;
   };
   auto& observations = keyframe.observations;

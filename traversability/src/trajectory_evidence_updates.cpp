@@ -48,4 +48,22 @@ mesher::UpdateStats TrajectoryEvidence::removeKeyframe(mesher::Mesher& mesher, m
   return stats;
 }
 
+mesher::UpdateStats TrajectoryEvidence::removeKeyframes(mesher::Mesher& mesher,
+                                                        const std::vector<mesher::KeyframeId>& ids) {
+  std::vector<mesher::KeyframeId> keyframes;
+  for (const mesher::KeyframeId& id : ids) {
+    keyframes.push_back(id);
+    for (const mesher::KeyframeId& view : bodyViewIds(id)) keyframes.push_back(view);
+    keyframes.push_back(bodyViewId(id, kUndersideViewSlot));
+  }
+  mesher::UpdateStats stats = mesher.removeKeyframes(keyframes);
+  std::vector<mesher::PointId> samples;
+  for (const mesher::KeyframeId& id : ids) {
+    const std::vector<mesher::PointId> own = remove(id);
+    samples.insert(samples.end(), own.begin(), own.end());
+  }
+  if (!samples.empty()) stats += mesher.removePoints(samples);
+  return stats;
+}
+
 }  // namespace terramesh::traversability

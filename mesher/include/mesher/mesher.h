@@ -130,6 +130,21 @@ class Mesher {
   /// Unknown ids are ignored.
   UpdateStats removeKeyframe(KeyframeId keyframe);
 
+  /// Deletes several keyframes in one update (their rays, and the points left without any);
+  /// unknown ids are ignored. The online freeze retires keyframes so.
+  UpdateStats removeKeyframes(const std::vector<KeyframeId>& keyframes);
+
+  /// Lets go of the Steiner lattice far from the data still in use (the online freeze: call it after
+  /// removing the keyframes of a region left behind). Every Steiner vertex farther than `reach_m`
+  /// plus the grid's margin and two cells from each of `keep_W` (map units: the cameras of the
+  /// keyframes kept) whose cells are outside O, crossed by no ray and spanned by Steiner vertices
+  /// only leaves the triangulation; the surface and every ray are unchanged. From the first call
+  /// on, the lattice grows only around new data (not as a whole box), and comes back where data
+  /// comes back. Not in the baselines' fixed grid (then a no-op). A mesher that released nodes is
+  /// not checkpointed (saveCheckpoint throws std::logic_error). O(Steiner vertices).
+  /// @throw std::invalid_argument if `reach_m` is not finite and >= 0.
+  UpdateStats releaseFarSteiner(const std::vector<Eigen::Vector3d>& keep_W, double reach_m);
+
   /// The boundary of O as a closed, consistently oriented 2-manifold (vertices include Steiner
   /// vertices, flagged in `is_steiner`), in a canonical order: vertices sorted by position, faces
   /// sorted, so equal surfaces give equal meshes. O(cells + F log F).

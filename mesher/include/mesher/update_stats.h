@@ -25,6 +25,7 @@ struct UpdateStats {
   std::size_t duplicate_points = 0;  ///< insertions refused: a vertex already at that position
   std::size_t deferred_points = 0;   ///< moves/removals postponed: the star still touched O
   std::size_t steiner_points = 0;    ///< Steiner vertices added
+  std::size_t steiner_released = 0;  ///< Steiner vertices let go (Mesher::releaseFarSteiner)
 
   /// Input filters (MesherConfig::max_camera_distance_m and min_views).
   std::size_t observations = 0;  ///< point observations in the keyframes of this update

@@ -31,6 +31,8 @@ struct ClassAgreement {
   /// The part where both are free or both are not: the drivable decision agrees (a lethal and an
   /// unknown cell agree here, not in agreeing_m2).
   double same_free_m2 = 0;
+  /// Area in the region where `a` has a face and `b` none (on a's levels), not in compared_m2.
+  double only_a_m2 = 0;
   /// agreeing / compared; 1 when nothing was compared.
   double fraction() const { return compared_m2 > 0 ? agreeing_m2 / compared_m2 : 1.0; }
   /// same_free / compared; 1 when nothing was compared.

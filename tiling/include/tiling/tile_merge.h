@@ -4,6 +4,7 @@
 // (docs/tiles.md, "The tiled map").
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct MergeConfig {
   bool check_borders = false;
   /// Cell size of that comparison, metres.
   double border_cell_m = 0.1;
+  /// Also compare the joined tiles' classes with the map in this folder (a map of the same frame,
+  /// e.g. one meshed without the freeze) over the plan's extent, at border_cell_m (classAgreement).
+  std::optional<std::filesystem::path> compare_with;
   /// The level split of the overview and of the border comparison (the tiles' default).
   traversability::LevelConfig levels;
   /// @throw std::invalid_argument listing every out-of-range field.
@@ -41,6 +45,10 @@ struct MergeReport {
   std::size_t faces = 0;  ///< faces owned by all tiles together
   std::size_t overview_levels = 0;
   std::vector<BorderAgreement> borders;  ///< with check_borders, by tile pair
+  /// With compare_with: the joined tiles (a) against that map (b) ...
+  std::optional<ClassAgreement> compared;
+  /// ... and the area that map covers where the tiles have no face (on its levels).
+  double compared_only_other_m2 = 0;
 };
 
 /// Reads every tile's record and owned map (all tiles must have been meshed with the same robot

@@ -241,6 +241,9 @@ class TrajectoryEvidence {
   /// Removes keyframe `id` from `mesher` with its body views and then its samples, and forgets it
   /// (remove). Unknown ids change nothing. Returns the sum of the mesher's updates.
   mesher::UpdateStats removeKeyframe(mesher::Mesher& mesher, mesher::KeyframeId id);
+  /// removeKeyframe for several keyframes at once: one mesher update for the keyframes and their
+  /// views, one for their samples (the online freeze retiring the keyframes of a region).
+  mesher::UpdateStats removeKeyframes(mesher::Mesher& mesher, const std::vector<mesher::KeyframeId>& ids);
 
   /// The samples of `keyframe` at its pose (no state change).
   /// A keyframe already recorded (augment) also gets the patches at its stations, between this pose
@@ -270,6 +273,13 @@ class TrajectoryEvidence {
   /// removing the keyframe: the next keyframe still observes them). Empty if it is unknown.
   std::vector<mesher::PointId> remove(mesher::KeyframeId id);
 
+  /// Forgets the SLAM points (seen, positions, left out) lying farther than `radius_m` (plan
+  /// distance) from each of `keep_W` (map units): the online freeze, once the keyframes of a
+  /// region left behind are removed. Such a point seen again counts as new (a later obstacle)
+  /// and, if it had been left out, is judged again. Returns how many points were forgotten.
+  /// O(points known).
+  std::size_t forgetPointsBeyond(const std::vector<Eigen::Vector3d>& keep_W, double radius_m);
+
   /// The points the last augment() left out for good; remove them from the mesher (an earlier
   /// keyframe may have inserted them):
   /// - inside the robot's body (between max_step_m and min_clearance_m above the contact plane,
@@ -282,7 +292,7 @@ class TrajectoryEvidence {
   ///   footprint at any of the drive's stations; the driven samples stand for that ground.
   const std::vector<mesher::PointId>& newlyContradicted() const { return newly_contradicted_; }
   /// How many points the drive has contradicted (inside the body) so far.
-  std::size_t contradictedCount() const { return contradicted_.size() - absorbed_count_; }
+  std::size_t contradictedCount() const { return contradicted_count_; }
   /// How many points on the driven ground the drive has stood for so far.
   std::size_t absorbedCount() const { return absorbed_count_; }
 
@@ -368,7 +378,7 @@ class TrajectoryEvidence {
   /// Whether p_W lies on the driven ground of any recorded keyframe's station.
   bool onRecordedDrivenGround(const Eigen::Vector3d& p_W) const;
   /// Leaves `id` out for good (on the driven ground: `absorbed`).
-  void leaveOut(mesher::PointId id, bool absorbed);
+  void leaveOut(mesher::PointId id, const Eigen::Vector3d& p_W, bool absorbed);
   /// Leaves the contradicted points out of `keyframe` (poses: where the body was), checks the
   /// points seen before against the new bodies, and records the positions of the rest.
   void dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B,
@@ -397,8 +407,9 @@ class TrajectoryEvidence {
   /// How far the footprint reaches behind the base (a keyframe that starts a drive has stations
   /// back to there), metres.
   double rear_m_ = 0;
-  std::unordered_set<std::uint64_t> contradicted_;
-  std::size_t absorbed_count_ = 0;
+  /// Points left out for good, with their plan position (metres).
+  std::unordered_map<std::uint64_t, Eigen::Vector2d> contradicted_;
+  std::size_t contradicted_count_ = 0, absorbed_count_ = 0;
   std::vector<mesher::PointId> newly_contradicted_;
   /// Keyframe ids by the horizontal cell of their station bases, and the SLAM points seen so far.
   struct BodyIndex;
