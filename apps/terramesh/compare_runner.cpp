@@ -12,19 +12,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "process_memory.h"
+
 namespace terramesh::cli {
 
 namespace {
-
-/// VmRSS of this process in MB (0 if /proc is not there).
-double residentMb() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  }
-  return 0;
-}
 
 void writeAll(int fd, const std::string& text) {
   std::size_t written = 0;
@@ -54,7 +46,7 @@ IsolatedRun runIsolated(const std::function<JobResults()>& job) {
   if (pid == 0) {
     ::close(fds[0]);
     std::ostringstream out;
-    out << "start_rss_mb\t" << residentMb() << '\n';
+    out << "start_rss_mb\t" << residentMib() << '\n';
     int code = 0;
     try {
       for (const auto& [key, value] : job()) out << clean(key) << '\t' << clean(value) << '\n';

@@ -19,8 +19,10 @@
 #include "input_options.h"
 #include "mesh_checkpoint.h"
 #include "mesh_frame_hints.h"
+#include "mesh_freeze.h"
 #include "mesh_tile.h"
 #include "mesher_options.h"
+#include "process_memory.h"
 #include "progress_bar.h"
 #include "stop_signal.h"
 #include "stats_table.h"
@@ -92,11 +94,12 @@ struct MeshOptions {
   long snapshot_every = 0, checkpoint_every = 0;
   std::optional<std::string> resume_path;
   std::optional<std::string> tile;  ///< PLAN:I
-  bool drop_steiner = false, check = false, quiet = false;
+  bool drop_steiner = false, check = false, quiet = false, memory_log = false;
   InputOptions input;
   MesherOptions mesher;
   TraversabilitySessionOptions traversability;
   TrajectoryEvidenceOptions evidence;
+  FreezeOptions freeze;
 };
 
 void declareOptions(CLI::App& app, MeshOptions& o) {
@@ -125,12 +128,16 @@ void declareOptions(CLI::App& app, MeshOptions& o) {
       ->option_text("PLAN:I");
   app.add_flag("--drop-steiner", o.drop_steiner,
                "also write mesh_open.ply: the surface without faces touching Steiner vertices");
+  app.add_flag("--memory-log", o.memory_log,
+               "also write memory.csv: the process's resident memory after every keyframe (not reproducible "
+               "byte for byte: it is the machine's)");
   app.add_flag("--check-invariants", o.check, "check every invariant after each update (slow; for testing)");
   app.add_flag("--quiet", o.quiet, "print nothing but errors");
   addInputOptions(app, o.input);
   addMesherOptions(app, o.mesher);
   TraversabilitySession::addOptions(app, o.traversability);
   addTrajectoryEvidenceOptions(app, o.evidence);
+  addFreezeOptions(app, o.freeze);
 }
 
 /// One run of `terramesh mesh`: everything read and validated by the constructor before any
@@ -146,6 +153,8 @@ class MeshJob {
 
  private:
   void afterEvent(std::size_t i, const datasets::StreamEvent& event, const mesher::UpdateStats& stats);
+  /// The freeze after event `i`: tiles written, keyframes retired from the mesher, layers updated.
+  void freezeAfter(std::size_t i, const datasets::StreamEvent& event);
   void saveCheckpoint(std::size_t next_event);
   void writeSummary(const mesher::TriangleMesh& mesh, const std::filesystem::path& mesh_path);
   /// The events meshed: the stream's, or the tile's input.
@@ -159,12 +168,15 @@ class MeshJob {
   mesher::MesherConfig config_;
   std::optional<TraversabilitySession> traversability_;
   TrajectoryEvidenceRun evidence_;
+  std::optional<MeshFreeze> freeze_;
   MeshRunState state_;
   std::optional<mesher::Mesher> mesher_;
   std::vector<std::string> frame_comments_;
   /// What the configuration took from the data (describeInferredSettings), for stderr and the summary.
   std::vector<std::string> inferred_;
   std::ostringstream csv_;
+  std::ostringstream memory_csv_;  ///< with --memory-log
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   mesher::UpdateStats totals_;
   std::size_t keyframes_ = 0;
   std::size_t first_event_ = 0;
@@ -187,6 +199,8 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   traversability_ = TraversabilitySession::fromOptions(o.traversability, stream_, config_.metres_per_unit, output_);
   if (tile_) tile_->attach(*traversability_, exportConfigFrom(o.traversability.exports), config_.metres_per_unit);
   evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr);
+  freeze_ = MeshFreeze::fromOptions(o.freeze, traversability_ ? &*traversability_ : nullptr,
+                                    config_.max_camera_distance_m, output_);
   if (resumed_ && resumed_->state.trajectory_evidence != evidence_.settings()) {
     throw InputError(*o.resume_path, "run state.trajectory_evidence",
                      "made with trajectory evidence \"" + resumed_->state.trajectory_evidence + "\", this run has \"" +
@@ -236,7 +250,12 @@ void MeshJob::run() {
   ProgressBar progress("meshing", events().size());
   for (std::size_t i = first_event_; i < events().size(); ++i) {
     const datasets::StreamEvent& event = events()[i];
+    if (freeze_ && freeze_->skips(event)) {
+      progress.update(i + 1);
+      continue;
+    }
     afterEvent(i, event, evidence_.apply(*mesher_, event));
+    if (freeze_) freezeAfter(i, event);
     stop_signal_ = StopSignalScope::requested();
     const bool checkpoint_due = o_.checkpoint_every > 0 && std::holds_alternative<mesher::Keyframe>(event) &&
                                 keyframes_ % static_cast<std::size_t>(o_.checkpoint_every) == 0;
@@ -263,6 +282,11 @@ void MeshJob::afterEvent(std::size_t i, const datasets::StreamEvent& event, cons
   if (traversability_) traversability_->afterEvent(*mesher_, i, kind == "keyframe");
   if (kind != "keyframe") return;
   ++keyframes_;
+  if (o_.memory_log) {
+    const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    memory_csv_ << keyframes_ << ',' << i << ',' << elapsed_s << ',' << residentMib() << ',' << peakResidentMib() << ','
+                << mesher_->size().totalBytes() << '\n';
+  }
   if (o_.snapshot_every > 0 && keyframes_ % static_cast<std::size_t>(o_.snapshot_every) == 0) {
     char name[64];
     std::snprintf(name, sizeof(name), "mesh_%06zu.%s", keyframes_, o_.format.c_str());
@@ -270,11 +294,41 @@ void MeshJob::afterEvent(std::size_t i, const datasets::StreamEvent& event, cons
   }
 }
 
+void MeshJob::freezeAfter(std::size_t i, const datasets::StreamEvent& event) {
+  if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) freeze_->removed(removal->keyframe);
+  const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
+  if (keyframe == nullptr) return;
+  const std::vector<mesher::KeyframeId> retire =
+      freeze_->afterKeyframe(*keyframe, *traversability_, mesher_->revision());
+  if (retire.empty()) return;
+  const mesher::UpdateStats retired = evidence_.retire(*mesher_, retire);
+  totals_ += retired;
+  csv_ << updateCsvRow(i, "retire_keyframes", retire.size(), retired, mesher_->size()) << '\n';
+  // The lattice and the evidence's points left behind go too: memory follows the active region.
+  const std::vector<Eigen::Vector3d> live = freeze_->liveCentres();
+  const mesher::UpdateStats released = mesher_->releaseFarSteiner(live, config_.max_camera_distance_m);
+  evidence_.forgetPointsBeyond(live, 2 * config_.max_camera_distance_m);
+  totals_ += released;
+  csv_ << updateCsvRow(i, "release_steiner", released.steiner_released, released, mesher_->size()) << '\n';
+  if (o_.check) {
+    const mesher::InvariantReport report = mesher_->checkInvariants();
+    if (!report.ok()) {
+      throw std::runtime_error("invariant check failed after retiring keyframes at event " + std::to_string(i) + ": " +
+                               report.summary());
+    }
+  }
+  traversability_->afterEvent(*mesher_, i, false);
+}
+
 int MeshJob::finish() {
   const mesher::TriangleMesh mesh = mesher_->extractMesh();
   const std::filesystem::path mesh_path = output_ / ("mesh." + o_.format);
   writeMesh(mesh_path, mesh, frame_comments_);
   writeFileAtomically(output_ / "keyframes.csv", csv_.str());
+  if (o_.memory_log) {
+    writeFileAtomically(output_ / "memory.csv", "keyframes,event,elapsed_s,rss_mib,peak_rss_mib,map_bytes\n" +
+                                                    memory_csv_.str());
+  }
   writeRunExtras(tile_ ? tile_->input() : stream_, output_);
   writeSummary(mesh, mesh_path);
   return stop_signal_ != 0 ? exitCodeForSignal(stop_signal_) : kExitOk;
@@ -327,6 +381,7 @@ void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesyst
   }
   if (evidence_.warning()) summary << "warning: " << *evidence_.warning() << '\n';
   if (traversability_) traversability_->finish(*mesher_, summary);
+  if (freeze_) freeze_->finish(*traversability_, tile_ ? tile_->input() : stream_, mesher_->revision(), summary);
   writeFileAtomically(output_ / "summary.txt", summary.str());
   if (!o_.quiet) std::cout << summary.str();
 }
@@ -350,6 +405,9 @@ int runMesh(const std::vector<std::string>& args) {
     o.output_dir = tile->outputDirectory().string();
   }
   if (o.output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
+  if (o.freeze.radius_m && (o.tile || o.resume_path || o.checkpoint_every > 0)) {
+    throw UsageError("mesh: --freeze-radius-m cannot be combined with --tile, --resume or --checkpoint-every");
+  }
   // Read and validate everything before creating any output.
   MeshJob job(o, *mode, std::move(tile));
   // From the first event to the last output, a signal finishes the work in progress.

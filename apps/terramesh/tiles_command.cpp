@@ -86,13 +86,26 @@ int runTilesMerge(const std::vector<std::string>& args) {
   app.add_flag("--check-borders", config.check_borders,
                "also print how far the classes of neighbouring tiles agree over their overlap");
   app.add_option("--border-cell-m", config.border_cell_m, "cell size of that comparison, metres")->check(positiveNumber());
+  std::optional<std::string> compare_with;
+  app.add_option("--compare-with", compare_with,
+                 "also print how far the joined tiles' classes agree with the map in this folder (same frame, e.g. "
+                 "a run without --freeze-radius-m) over the tiled area, at --border-cell-m")
+      ->option_text("MAPDIR");
   app.add_flag("--quiet", quiet, "print nothing but errors");
   if (!parseCommandLine(app, args)) return kExitOk;
+  if (compare_with) config.compare_with = *compare_with;
   const tiling::MergeReport report = tiling::mergeTiles(plan_path, config);
   if (quiet) return kExitOk;
   std::cout << "merged: " << report.tiles << " tile(s), " << report.faces << " faces, overview " << report.overview_levels
             << " level(s) at " << config.overview_resolution_m << " m; index "
             << (std::filesystem::path(plan_path).parent_path() / "tiles.json").string() << '\n';
+  if (report.compared) {
+    std::cout << "against " << *compare_with << ": classes agree on " << std::fixed << std::setprecision(4)
+              << report.compared->fraction() << " (free or not: " << report.compared->freeFraction() << ") of "
+              << std::setprecision(1) << report.compared->compared_m2 << " m2 both cover; the tiles alone cover "
+              << report.compared->only_a_m2 << " m2, the other map alone " << report.compared_only_other_m2 << " m2\n"
+              << std::defaultfloat << std::setprecision(6);
+  }
   for (const tiling::BorderAgreement& border : report.borders) {
     std::cout << "border " << border.tile_a << "|" << border.tile_b << ": classes agree on " << std::fixed
               << std::setprecision(4) << border.agreement.fraction() << " (free or not: "

@@ -40,6 +40,16 @@ class TrajectoryEvidenceRun {
   /// datasets::applyEvent when off). A keyframe removal also removes its samples (one stats sum).
   /// @throw std::invalid_argument if a SLAM point id uses the range reserved for the samples.
   mesher::UpdateStats apply(mesher::Mesher& mesher, const datasets::StreamEvent& event);
+  /// The online freeze: removes keyframes `ids` from `mesher` in one update, with their driven
+  /// evidence (TrajectoryEvidence::removeKeyframes; mesher::Mesher::removeKeyframes when off).
+  mesher::UpdateStats retire(mesher::Mesher& mesher, const std::vector<mesher::KeyframeId>& ids) {
+    return evidence_ ? evidence_->removeKeyframes(mesher, ids) : mesher.removeKeyframes(ids);
+  }
+  /// The online freeze: forgets the SLAM points farther than `radius_m` from each of `keep_W`
+  /// (TrajectoryEvidence::forgetPointsBeyond; nothing when off).
+  void forgetPointsBeyond(const std::vector<Eigen::Vector3d>& keep_W, double radius_m) {
+    if (evidence_) evidence_->forgetPointsBeyond(keep_W, radius_m);
+  }
   /// Brings the keyframe poses up to event `events` without meshing (for --resume).
   void replay(const datasets::SlamStream& stream, std::size_t events);
 

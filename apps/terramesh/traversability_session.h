@@ -87,6 +87,10 @@ class TraversabilitySession {
   /// a tile's owned part written elsewhere, mesh --tile).
   using ExportHook = std::function<void(const traversability::LayeredMesh& map, std::uint64_t revision)>;
   void setExportHook(ExportHook hook) { export_hook_ = std::move(hook); }
+  /// The map as it stands (its faces, layers and keys).
+  traversability::LayeredMesh snapshot() const { return map_->snapshot(); }
+  /// The export settings (grid, GeoTIFF, HDF5).
+  const traversability::ExportConfig& exportConfig() const { return config_; }
   /// Where "up" came from, for the summary.
   const std::string& upSource() const { return up_source_; }
   const traversability::RobotProfile& profile() const { return profile_; }

@@ -1,6 +1,7 @@
 """Tiles meshed apart and joined (docs/tiles.md): a short street cut into 4 tiles, meshed serially and
 on a one-node Slurm cluster started here; the merged maps must be byte-identical. Borders and bad
 input are checked too."""
+import csv
 import filecmp
 import json
 import os
@@ -189,6 +190,105 @@ class TilesBadInputTest(unittest.TestCase):
     def test_merge_before_the_tiles_are_meshed(self):
         result = run("tiles", "merge", str(self.plan), check=False)
         self.assertBadInput(result, "tile_000/tile.json", "has no result yet")
+
+
+class FreezeTest(unittest.TestCase):
+    """A 300 m street meshed with the online freeze (80 m radius, 40 m tiles) and without it: the
+    mesher holds less, the frozen tiles join like tiles meshed apart, and they agree with the whole
+    run (docs/tiles.md, "Online: the freeze")."""
+
+    # Measured on this street: 0.9989 of the area both cover, free or not 1.0000.
+    MIN_AGREEMENT = 0.99
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="terramesh-freeze-"))
+        run("generate", "street", "--length-m", "300", "--seed", "2", "--outlier-fraction", "0",
+            "-o", str(cls.tmp / "data"), "--quiet")
+        cls.stream = str(cls.tmp / "data" / "stream.tmstream")
+        cls.frozen = cls.tmp / "frozen"
+        cls.whole = cls.tmp / "whole"
+        run("mesh", cls.stream, "--robot", ROBOT, "-o", str(cls.frozen), "--freeze-radius-m", "80",
+            "--freeze-tile-m", "40", "--memory-log", "--quiet")
+        run("mesh", cls.stream, "--robot", ROBOT, "-o", str(cls.whole), "--quiet")
+        cls.plan = cls.frozen / "tiles" / "plan.json"
+        cls.merge_output = run("tiles", "merge", str(cls.plan), "--compare-with", str(cls.whole)).stdout
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    @staticmethod
+    def rows(folder):
+        with open(folder / "keyframes.csv", newline="") as f:
+            return list(csv.DictReader(f))
+
+    def test_keyframes_retire_and_the_mesher_holds_less(self):
+        frozen, whole = self.rows(self.frozen), self.rows(self.whole)
+        retired = [row for row in frozen if row["kind"] == "retire_keyframes"]
+        keyframes = sum(int(row["id"]) for row in retired)
+        self.assertGreater(keyframes, 20)
+        self.assertGreater(sum(int(row["removed_points"]) for row in retired), 1000)
+        peak = max(int(row["map_bytes"]) for row in frozen)
+        self.assertLess(peak, 0.9 * max(int(row["map_bytes"]) for row in whole))
+        summary = (self.frozen / "summary.txt").read_text()
+        self.assertRegex(summary, rf"freeze: \d+ tile\(s\) of 40 m .* {keyframes} keyframe\(s\) retired")
+        released = [row for row in frozen if row["kind"] == "release_steiner"]
+        self.assertGreater(sum(int(row["id"]) for row in released), 0)
+        with open(self.frozen / "memory.csv", newline="") as f:
+            memory = list(csv.DictReader(f))
+        self.assertEqual(len(memory), sum(1 for row in frozen if row["kind"] == "keyframe"))
+        self.assertTrue(all(float(row["rss_mib"]) > 0 for row in memory))
+
+    def test_active_surface_stays_a_closed_manifold(self):
+        result = subprocess.run(["python3", CHECKER, str(self.frozen / "mesh.ply"), "--json"], capture_output=True,
+                                text=True, timeout=300)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+
+    def test_frozen_tiles_join_and_agree_with_the_whole_run(self):
+        index = json.loads((self.frozen / "tiles" / "tiles.json").read_text())
+        self.assertGreater(len(index["tiles"]), 4)
+        for tile in index["tiles"]:
+            for name in tile["files"]:
+                self.assertTrue((self.frozen / "tiles" / name).is_file(), name)
+        merged = int(re.search(r"merged: \d+ tile\(s\), (\d+) faces", self.merge_output).group(1))
+        whole_faces = int(re.search(r"(\d+) faces, \d+ level", (self.whole / "summary.txt").read_text()).group(1))
+        self.assertGreater(merged, 0.97 * whole_faces)
+        match = re.search(r"classes agree on ([0-9.]+) \(free or not: ([0-9.]+)\) of ([0-9.]+) m2 both cover; "
+                          r"the tiles alone cover ([0-9.]+) m2, the other map alone ([0-9.]+) m2", self.merge_output)
+        self.assertIsNotNone(match, self.merge_output)
+        agree, free, both, tiles_only, other_only = map(float, match.groups())
+        self.assertGreaterEqual(agree, self.MIN_AGREEMENT, self.merge_output)
+        self.assertGreaterEqual(free, self.MIN_AGREEMENT, self.merge_output)
+        self.assertLess(tiles_only + other_only, 0.01 * both, self.merge_output)
+
+    def test_active_surface_differs_only_near_the_freeze(self):
+        # Measured on this street: 0.9725 of the active surface's faces are the whole run's, the
+        # others within 2.3 m of the surface the freeze let go.
+        python = os.environ.get("TERRAMESH_NUMPY_PYTHON")
+        self.assertTrue(python, "no Python with numpy (scripts/install_deps.sh installs python3-numpy)")
+        result = subprocess.run([python, str(SOURCE / "scripts" / "freeze_report.py"), str(self.frozen), "50",
+                                 "--whole", str(self.whole)], capture_output=True, text=True, timeout=300)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        match = re.search(r"active surface at the end: \d+ of \d+ faces also in .* \(([0-9.]+)\); the others lie "
+                          r"at most ([0-9.]+) m", result.stdout)
+        self.assertIsNotNone(match, result.stdout)
+        self.assertGreater(float(match.group(1)), 0.95, result.stdout)
+        self.assertLess(float(match.group(2)), 10.0, result.stdout)
+        self.assertRegex(result.stdout, r"drive: \d+ keyframes, \d+ tiles")
+
+    def test_freeze_refuses_what_it_cannot_do(self):
+        result = run("mesh", self.stream, "-o", str(self.tmp / "bad"), "--freeze-radius-m", "80", check=False)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("--freeze-radius-m needs --robot", result.stderr)
+        result = run("mesh", self.stream, "--robot", ROBOT, "-o", str(self.tmp / "bad"), "--freeze-radius-m", "80",
+                     "--checkpoint-every", "5", check=False)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("cannot be combined", result.stderr)
+        result = run("mesh", self.stream, "--robot", ROBOT, "-o", str(self.tmp / "bad"), "--freeze-radius-m", "-3",
+                     check=False)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertFalse((self.tmp / "bad").exists())
 
 
 if __name__ == "__main__":

@@ -1,0 +1,147 @@
+#include "mesh_freeze.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <variant>
+
+#include "tiling/tile_map.h"
+#include "traversability/map_directory.h"
+
+namespace terramesh::cli {
+
+void addFreezeOptions(CLI::App& app, FreezeOptions& options) {
+  app.add_option("--freeze-radius-m", options.radius_m,
+                 "online freeze of a long drive (needs --robot): a tile farther than this from the "
+                 "last keyframes, "
+                 "and not seen for a while, is written to OUTDIR/tiles and its keyframes leave the "
+                 "mesher, so "
+                 "memory stays bounded by the active region (docs/tiles.md)")
+      ->check(positiveNumber())
+      ->option_text("M");
+  app.add_option("--freeze-tile-m", options.config.tile_m, "side of a frozen tile, metres")
+      ->check(positiveNumber());
+  app.add_option("--freeze-recent-keyframes", options.config.recent_keyframes,
+                 "the freeze radius is measured from each of this many last keyframes")
+      ->check(positiveNumber());
+  app.add_option("--freeze-idle-keyframes", options.config.idle_keyframes,
+                 "a tile freezes only after this many keyframes without one within reach of it");
+}
+
+std::optional<MeshFreeze> MeshFreeze::fromOptions(const FreezeOptions& options,
+                                                  const TraversabilitySession* session,
+                                                  double reach_m,
+                                                  const std::filesystem::path& output) {
+  if (!options.radius_m) return std::nullopt;
+  if (session == nullptr)
+    throw UsageError("mesh: --freeze-radius-m needs --robot YAML (a frozen tile is its layers)");
+  tiling::FreezeConfig config = options.config;
+  config.radius_m = *options.radius_m;
+  const traversability::MapFrame& frame = session->frame();
+  const traversability::MapPlane plane =
+      traversability::MapPlane::fromUp(frame.up_W, frame.metres_per_unit);
+  return MeshFreeze(tiling::OnlineFreeze(config, plane, reach_m), output / "tiles" / "plan.json",
+                    *session);
+}
+
+MeshFreeze::MeshFreeze(tiling::OnlineFreeze freeze, std::filesystem::path plan_path,
+                       const TraversabilitySession& session)
+    : freeze_(std::move(freeze)),
+      plan_path_(std::move(plan_path)),
+      up_W_(session.frame().up_W),
+      metres_per_unit_(session.frame().metres_per_unit) {}
+
+bool MeshFreeze::skips(const datasets::StreamEvent& event) {
+  std::uint64_t id = 0;
+  if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+    id = keyframe->id.value;
+  } else if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
+    id = removal->keyframe.value;
+  } else {
+    return false;
+  }
+  const bool skip = freeze_.retired(id);
+  skipped_events_ += skip ? 1 : 0;
+  return skip;
+}
+
+namespace {
+
+/// Plan index of each tile by creation index (OnlineFreeze::tiles() names tile t tileName(t)).
+std::vector<std::size_t> planIndices(const tiling::TilePlan& plan,
+                                     const std::vector<tiling::TileSpec>& created) {
+  std::unordered_map<std::string, std::size_t> by_name;
+  for (const tiling::TileSpec& spec : plan.tiles) by_name.emplace(spec.name, spec.index);
+  std::vector<std::size_t> indices;
+  for (const tiling::TileSpec& spec : created) indices.push_back(by_name.at(spec.name));
+  return indices;
+}
+
+}  // namespace
+
+void MeshFreeze::writeTile(const traversability::LayeredMesh& map, const tiling::TilePlan& plan,
+                           std::size_t plan_index, std::size_t tile,
+                           const TraversabilitySession& session, std::uint64_t revision) {
+  const tiling::TileSpec& spec = freeze_.tiles().at(tile);
+  const traversability::LayeredMesh owned = tiling::ownedPart(map, plan, plan_index);
+  const traversability::ExportReport report = traversability::writeMapDirectory(
+      tiling::tileMapDirectory(plan_path_, spec), owned, session.profile(), session.exportConfig());
+  tiling::TileRecord& record = records_[tile];
+  record.revision = revision;
+  record.faces = owned.mesh.faces.size();
+  record.level_heights_m = report.level_heights_m;
+  record.files = report.files;
+}
+
+std::vector<mesher::KeyframeId> MeshFreeze::afterKeyframe(const mesher::Keyframe& keyframe,
+                                                          const TraversabilitySession& session,
+                                                          std::uint64_t revision) {
+  freeze_.keyframe(keyframe.id.value, keyframe.position_W_C);
+  const std::vector<std::size_t> due = freeze_.freezeDue();
+  if (!due.empty()) {
+    const traversability::LayeredMesh map = session.snapshot();
+    const tiling::TilePlan plan = freeze_.plan(up_W_, metres_per_unit_, 0, 0);
+    const std::vector<std::size_t> indices = planIndices(plan, freeze_.tiles());
+    for (std::size_t tile : due) writeTile(map, plan, indices[tile], tile, session, revision);
+    frozen_during_run_ += due.size();
+  }
+  std::vector<mesher::KeyframeId> retire;
+  for (std::uint64_t id : freeze_.retireDue()) retire.push_back(mesher::KeyframeId{id});
+  return retire;
+}
+
+void MeshFreeze::finish(const TraversabilitySession& session, const datasets::SlamStream& stream,
+                        std::uint64_t revision, std::ostream& summary) {
+  const tiling::TilePlan plan =
+      freeze_.plan(up_W_, metres_per_unit_, stream.events.size(), stream.keyframeEventCount());
+  if (plan.tiles.empty()) {
+    summary << "freeze: no keyframe, no tile\n";
+    return;
+  }
+  const traversability::LayeredMesh map = session.snapshot();
+  const std::vector<std::size_t> indices = planIndices(plan, freeze_.tiles());
+  std::size_t faces = 0;
+  for (std::size_t tile = 0; tile < indices.size(); ++tile) {
+    if (records_.count(tile) == 0) writeTile(map, plan, indices[tile], tile, session, revision);
+    tiling::TileRecord record = records_.at(tile);
+    record.index = indices[tile];
+    faces += record.faces;
+    tiling::writeTileRecord(plan_path_, plan.tiles[indices[tile]], record);
+  }
+  tiling::writeTilePlan(plan_path_, plan);
+  const tiling::FreezeStats stats = freeze_.stats();
+  summary << "freeze: " << plan.tiles.size() << " tile(s) of " << plan.config.tile_m << " m in "
+          << plan_path_.parent_path().string() << " (" << frozen_during_run_
+          << " frozen during the drive, " << plan.tiles.size() - frozen_during_run_
+          << " written at the end), " << faces << " faces; " << stats.retired_keyframes
+          << " keyframe(s) retired from the mesher, " << skipped_events_
+          << " later event(s) of retired keyframes left out, " << stats.revisits
+          << " keyframe(s) reached a frozen tile again (what they saw there is not written: a "
+             "frozen tile is final); "
+             "join with terramesh tiles merge "
+          << plan_path_.string() << "\n";
+}
+
+}  // namespace terramesh::cli
