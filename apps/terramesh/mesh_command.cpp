@@ -250,7 +250,7 @@ void MeshJob::run() {
   ProgressBar progress("meshing", events().size());
   for (std::size_t i = first_event_; i < events().size(); ++i) {
     const datasets::StreamEvent& event = events()[i];
-    if (freeze_ && freeze_->skips(event)) {
+    if (freeze_ && freeze_->skips(event, i)) {
       progress.update(i + 1);
       continue;
     }
@@ -295,25 +295,36 @@ void MeshJob::afterEvent(std::size_t i, const datasets::StreamEvent& event, cons
 }
 
 void MeshJob::freezeAfter(std::size_t i, const datasets::StreamEvent& event) {
-  if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) freeze_->removed(removal->keyframe);
+  if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
+    freeze_->removed(removal->keyframe);
+  }
   const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
   if (keyframe == nullptr) return;
-  const std::vector<mesher::KeyframeId> retire =
-      freeze_->afterKeyframe(*keyframe, *traversability_, mesher_->revision());
-  if (retire.empty()) return;
-  const mesher::UpdateStats retired = evidence_.retire(*mesher_, retire);
-  totals_ += retired;
-  csv_ << updateCsvRow(i, "retire_keyframes", retire.size(), retired, mesher_->size()) << '\n';
-  // The lattice and the evidence's points left behind go too: memory follows the active region.
-  const std::vector<Eigen::Vector3d> live = freeze_->liveCentres();
-  const mesher::UpdateStats released = mesher_->releaseFarSteiner(live, config_.max_camera_distance_m);
-  evidence_.forgetPointsBeyond(live, 2 * config_.max_camera_distance_m);
-  totals_ += released;
-  csv_ << updateCsvRow(i, "release_steiner", released.steiner_released, released, mesher_->size()) << '\n';
+  const MeshFreeze::Step step = freeze_->afterKeyframe(*keyframe, i, *traversability_, mesher_->revision());
+  // Retired keyframes that saw a tile reached again come back, each at its latest version.
+  for (std::size_t e : step.returned_events) {
+    const mesher::UpdateStats stats = evidence_.apply(*mesher_, events()[e]);
+    totals_ += stats;
+    csv_ << updateCsvRow(i, "return_keyframe", std::get<mesher::Keyframe>(events()[e]).id.value, stats,
+                         mesher_->size())
+         << '\n';
+  }
+  if (!step.retire.empty()) {
+    const mesher::UpdateStats retired = evidence_.retire(*mesher_, step.retire);
+    totals_ += retired;
+    csv_ << updateCsvRow(i, "retire_keyframes", step.retire.size(), retired, mesher_->size()) << '\n';
+    // The lattice and the evidence's points left behind go too: memory follows the active region.
+    const std::vector<Eigen::Vector3d> live = freeze_->liveCentres();
+    const mesher::UpdateStats released = mesher_->releaseFarSteiner(live, config_.max_camera_distance_m);
+    evidence_.forgetPointsBeyond(live, 2 * config_.max_camera_distance_m);
+    totals_ += released;
+    csv_ << updateCsvRow(i, "release_steiner", released.steiner_released, released, mesher_->size()) << '\n';
+  }
+  if (step.retire.empty() && step.returned_events.empty()) return;
   if (o_.check) {
     const mesher::InvariantReport report = mesher_->checkInvariants();
     if (!report.ok()) {
-      throw std::runtime_error("invariant check failed after retiring keyframes at event " + std::to_string(i) + ": " +
+      throw std::runtime_error("invariant check failed after the freeze at event " + std::to_string(i) + ": " +
                                report.summary());
     }
   }

@@ -1,5 +1,7 @@
 #include "mesh_freeze.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -15,10 +17,9 @@ namespace terramesh::cli {
 void addFreezeOptions(CLI::App& app, FreezeOptions& options) {
   app.add_option("--freeze-radius-m", options.radius_m,
                  "online freeze of a long drive (needs --robot): a tile farther than this from the "
-                 "last keyframes, "
-                 "and not seen for a while, is written to OUTDIR/tiles and its keyframes leave the "
-                 "mesher, so "
-                 "memory stays bounded by the active region (docs/tiles.md)")
+                 "last keyframes, and not seen for a while, is written to OUTDIR/tiles and its "
+                 "keyframes leave the mesher, so memory stays bounded by the active region "
+                 "(docs/tiles.md)")
       ->check(positiveNumber())
       ->option_text("M");
   app.add_option("--freeze-tile-m", options.config.tile_m, "side of a frozen tile, metres")
@@ -35,8 +36,13 @@ std::optional<MeshFreeze> MeshFreeze::fromOptions(const FreezeOptions& options,
                                                   double reach_m,
                                                   const std::filesystem::path& output) {
   if (!options.radius_m) return std::nullopt;
-  if (session == nullptr)
+  if (session == nullptr) {
     throw UsageError("mesh: --freeze-radius-m needs --robot YAML (a frozen tile is its layers)");
+  }
+  // Large blocks (ray paths, snapshots, rasters) from mmap, returned to the system when freed: with
+  // glibc's adaptive threshold they come from the heap after a while and fragment it, so the
+  // resident memory of a long drive would creep although the map's size stays flat.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   tiling::FreezeConfig config = options.config;
   config.radius_m = *options.radius_m;
   const traversability::MapFrame& frame = session->frame();
@@ -53,18 +59,19 @@ MeshFreeze::MeshFreeze(tiling::OnlineFreeze freeze, std::filesystem::path plan_p
       up_W_(session.frame().up_W),
       metres_per_unit_(session.frame().metres_per_unit) {}
 
-bool MeshFreeze::skips(const datasets::StreamEvent& event) {
-  std::uint64_t id = 0;
+bool MeshFreeze::skips(const datasets::StreamEvent& event, std::size_t index) {
   if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
-    id = keyframe->id.value;
-  } else if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
-    id = removal->keyframe.value;
-  } else {
-    return false;
+    latest_event_[keyframe->id.value] = index;
+    const bool skip = freeze_.retired(keyframe->id.value);
+    skipped_events_ += skip ? 1 : 0;
+    return skip;
   }
-  const bool skip = freeze_.retired(id);
-  skipped_events_ += skip ? 1 : 0;
-  return skip;
+  const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event);
+  if (removal == nullptr || !freeze_.retired(removal->keyframe.value)) return false;
+  freeze_.removed(removal->keyframe.value);
+  latest_event_.erase(removal->keyframe.value);
+  ++skipped_events_;
+  return true;
 }
 
 namespace {
@@ -95,10 +102,16 @@ void MeshFreeze::writeTile(const traversability::LayeredMesh& map, const tiling:
   record.files = report.files;
 }
 
-std::vector<mesher::KeyframeId> MeshFreeze::afterKeyframe(const mesher::Keyframe& keyframe,
-                                                          const TraversabilitySession& session,
-                                                          std::uint64_t revision) {
+MeshFreeze::Step MeshFreeze::afterKeyframe(const mesher::Keyframe& keyframe, std::size_t index,
+                                           const TraversabilitySession& session,
+                                           std::uint64_t revision) {
+  latest_event_[keyframe.id.value] = index;
   freeze_.keyframe(keyframe.id.value, keyframe.position_W_C);
+  // A thawed tile is written again when it freezes again.
+  for (std::size_t tile : freeze_.takeThawed()) records_.erase(tile);
+  Step step;
+  for (std::uint64_t id : freeze_.takeReturned()) step.returned_events.push_back(latest_event_.at(id));
+  std::sort(step.returned_events.begin(), step.returned_events.end());
   const std::vector<std::size_t> due = freeze_.freezeDue();
   if (!due.empty()) {
     const traversability::LayeredMesh map = session.snapshot();
@@ -107,9 +120,8 @@ std::vector<mesher::KeyframeId> MeshFreeze::afterKeyframe(const mesher::Keyframe
     for (std::size_t tile : due) writeTile(map, plan, indices[tile], tile, session, revision);
     frozen_during_run_ += due.size();
   }
-  std::vector<mesher::KeyframeId> retire;
-  for (std::uint64_t id : freeze_.retireDue()) retire.push_back(mesher::KeyframeId{id});
-  return retire;
+  for (std::uint64_t id : freeze_.retireDue()) step.retire.push_back(mesher::KeyframeId{id});
+  return step;
 }
 
 void MeshFreeze::finish(const TraversabilitySession& session, const datasets::SlamStream& stream,
@@ -133,14 +145,13 @@ void MeshFreeze::finish(const TraversabilitySession& session, const datasets::Sl
   tiling::writeTilePlan(plan_path_, plan);
   const tiling::FreezeStats stats = freeze_.stats();
   summary << "freeze: " << plan.tiles.size() << " tile(s) of " << plan.config.tile_m << " m in "
-          << plan_path_.parent_path().string() << " (" << frozen_during_run_
-          << " frozen during the drive, " << plan.tiles.size() - frozen_during_run_
-          << " written at the end), " << faces << " faces; " << stats.retired_keyframes
-          << " keyframe(s) retired from the mesher, " << skipped_events_
-          << " later event(s) of retired keyframes left out, " << stats.revisits
-          << " keyframe(s) reached a frozen tile again (what they saw there is not written: a "
-             "frozen tile is final); "
-             "join with terramesh tiles merge "
+          << plan_path_.parent_path().string() << " (" << stats.frozen_tiles
+          << " frozen during the drive, " << plan.tiles.size() - stats.frozen_tiles
+          << " written at the end; " << frozen_during_run_ << " freeze(s) in all), " << faces
+          << " faces; " << stats.retired_keyframes << " keyframe(s) retired from the mesher at the end, "
+          << skipped_events_ << " event(s) of retired keyframes held back; " << stats.thawed_tiles
+          << " tile thaw(s) (a keyframe reached a frozen tile again), which brought "
+          << stats.returned_keyframes << " retired keyframe(s) back; join with terramesh tiles merge "
           << plan_path_.string() << "\n";
 }
 

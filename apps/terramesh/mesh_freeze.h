@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <ostream>
+#include <unordered_map>
 #include <vector>
 
 #include "cli_args.h"
@@ -39,15 +40,22 @@ class MeshFreeze {
                                                const TraversabilitySession* session, double reach_m,
                                                const std::filesystem::path& output);
 
-  /// Whether to leave `event` out: a retired keyframe sent again (a correction of a frozen tile's
-  /// keyframe) or removed. Counted for the summary.
-  bool skips(const datasets::StreamEvent& event);
-  /// After keyframe `keyframe` was integrated and the layers updated: writes the tiles that froze
-  /// from `session`'s map at mesher revision `revision` and returns the keyframes to retire
-  /// (remove them from the mesher, then update the layers).
-  std::vector<mesher::KeyframeId> afterKeyframe(const mesher::Keyframe& keyframe,
-                                                const TraversabilitySession& session,
-                                                std::uint64_t revision);
+  /// Whether to leave event `index` out: a retired keyframe sent again (a correction of a frozen
+  /// tile's keyframe: kept as that keyframe's latest version, for when it comes back) or removed
+  /// (it never comes back). Counted for the summary.
+  bool skips(const datasets::StreamEvent& event, std::size_t index);
+  /// What the mesher has to do after a keyframe.
+  struct Step {
+    /// Events to integrate again (the latest versions of the keyframes that came back), in order.
+    std::vector<std::size_t> returned_events;
+    /// Keyframes to remove from the mesher (after those).
+    std::vector<mesher::KeyframeId> retire;
+  };
+  /// After keyframe `keyframe` (event `index`) was integrated and the layers updated: thaws the
+  /// frozen tiles it reached, writes the tiles that froze from `session`'s map at mesher revision
+  /// `revision` and says which keyframes come back and which retire.
+  Step afterKeyframe(const mesher::Keyframe& keyframe, std::size_t index,
+                     const TraversabilitySession& session, std::uint64_t revision);
   /// The sensor positions of the keyframes still in the mesher (map units).
   std::vector<Eigen::Vector3d> liveCentres() const { return freeze_.liveCentres(); }
   /// The stream removed keyframe `id`.
@@ -72,6 +80,8 @@ class MeshFreeze {
   double metres_per_unit_;
   /// Records of the tiles written, by creation index (their plan index is set at the end).
   std::map<std::size_t, tiling::TileRecord> records_;
+  /// The event of each keyframe's latest version sent so far.
+  std::unordered_map<std::uint64_t, std::size_t> latest_event_;
   std::size_t skipped_events_ = 0;
   std::size_t frozen_during_run_ = 0;
 };

@@ -14,6 +14,23 @@ namespace {
 using internal::CellHandle;
 using internal::VertexHandle;
 
+/// Whether all of `vertices` lie in one plane (fewer than four do).
+bool allCoplanar(const std::vector<VertexHandle>& vertices) {
+  std::size_t a = 0, b = 1, c = 2;
+  // Three that span a plane: the first two and the first one off their line.
+  while (c < vertices.size() &&
+         CGAL::collinear(vertices[a]->point(), vertices[b]->point(), vertices[c]->point())) {
+    ++c;
+  }
+  if (c >= vertices.size()) return true;
+  for (const VertexHandle& w : vertices) {
+    if (!CGAL::coplanar(vertices[a]->point(), vertices[b]->point(), vertices[c]->point(), w->point())) {
+      return false;
+    }
+  }
+  return true;
+}
+
 /// Whether removing Steiner vertex `v` leaves the surface, every ray and every point's star as they
 /// are: no cell around it (or beside one) is in O, no ray crosses one, and no point spans one.
 bool releasable(const internal::Delaunay& tri, VertexHandle v, std::vector<CellHandle>& scratch) {
@@ -27,7 +44,15 @@ bool releasable(const internal::Delaunay& tri, VertexHandle v, std::vector<CellH
       if (cell->neighbor(i)->info().outside()) return false;
     }
   }
-  return true;
+  // On the hull, CGAL fills the hole of a vertex whose finite neighbours are coplanar (a node on a
+  // flat face of the lattice's hull) with the help of a fake vertex and hands back cells that are
+  // not all valid; such a vertex stays.
+  bool on_hull = false;
+  for (const CellHandle& cell : scratch) on_hull = on_hull || tri.is_infinite(cell);
+  if (!on_hull) return true;
+  std::vector<VertexHandle> around;
+  tri.finite_adjacent_vertices(v, std::back_inserter(around));
+  return !allCoplanar(around);
 }
 
 }  // namespace

@@ -79,8 +79,10 @@ TEST_F(SteinerRelease, FarLatticeGoesAndTheSurfaceStays) {
   EXPECT_EQ(mesher_.revision(), revision);
   const InvariantReport report = mesher_.checkInvariants();
   EXPECT_TRUE(report.ok()) << report.summary();
-  // Nothing more to let go of with the same keyframes.
-  EXPECT_EQ(mesher_.releaseFarSteiner(keep_, kRangeM).steiner_released, 0u);
+  // Again with the same keyframes: little more goes (a hull node whose neighbours were all in one
+  // plane may not be any more), and the surface still stays.
+  EXPECT_LT(mesher_.releaseFarSteiner(keep_, kRangeM).steiner_released, stats.steiner_released / 10);
+  EXPECT_EQ(mesher_.extractMesh().faces, before.faces);
 }
 
 TEST_F(SteinerRelease, LatticeComesBackWhereDataComesBack) {

@@ -31,18 +31,27 @@ OnlineFreeze makeFreeze(const FreezeConfig& config = smallTiles()) {
 
 Eigen::Vector3d at(double x) { return {x, 0.0, 1.5}; }
 
-/// What one drive did: every tile freezeDue returned and every keyframe retireDue returned.
+/// What one drive did: every tile freezeDue returned, every keyframe retireDue returned, every
+/// tile thawed and every keyframe brought back.
 struct Drive {
-  std::multiset<std::size_t> frozen;
-  std::set<std::uint64_t> retired;
+  std::multiset<std::size_t> frozen, thawed;
+  std::set<std::uint64_t> retired, returned;
 };
 
-/// Sends keyframes `first_id`, ... at the positions `xs`, collecting what freezes and retires, and
-/// checks after each keyframe that no tile within the radius of the last keyframes froze.
+/// Sends keyframes `first_id`, ... at the positions `xs`, collecting what freezes, retires, thaws
+/// and comes back, and checks after each keyframe that no tile within the radius of it froze and
+/// that every keyframe brought back had reached a thawed tile.
 Drive drive(OnlineFreeze& freeze, const std::vector<double>& xs, std::uint64_t first_id = 0) {
   Drive result;
   for (std::size_t k = 0; k < xs.size(); ++k) {
     freeze.keyframe(first_id + k, at(xs[k]));
+    const std::vector<std::size_t> thawed = freeze.takeThawed();
+    result.thawed.insert(thawed.begin(), thawed.end());
+    for (std::uint64_t id : freeze.takeReturned()) {
+      EXPECT_FALSE(freeze.retired(id));
+      EXPECT_EQ(result.returned.count(id), 0u);
+      result.returned.insert(id);
+    }
     for (std::size_t tile : freeze.freezeDue()) {
       result.frozen.insert(tile);
       EXPECT_GT(freeze.tiles()[tile].bounds.distanceM({xs[k], 0.0}), smallTiles().radius_m)
@@ -102,7 +111,8 @@ TEST(OnlineFreeze, TilesBehindTheDriveFreezeOnceAndTheirKeyframesRetire) {
   const FreezeStats stats = freeze.stats();
   EXPECT_EQ(stats.frozen_tiles, result.frozen.size());
   EXPECT_EQ(stats.retired_keyframes, result.retired.size());
-  EXPECT_EQ(stats.revisits, 0u);
+  EXPECT_EQ(stats.thawed_tiles, 0u);
+  EXPECT_TRUE(result.thawed.empty());
 }
 
 TEST(OnlineFreeze, NothingFreezesWhileTheDriveStaysNear) {
@@ -125,24 +135,31 @@ TEST(OnlineFreeze, IdleKeyframesHoldATileBack) {
   EXPECT_TRUE(result.frozen.empty());  // far enough, but seen fewer than 1000 keyframes ago
 }
 
-TEST(OnlineFreeze, ADriveBackIntoFrozenTilesIsARevisit) {
+TEST(OnlineFreeze, ADriveBackThawsTheTilesAndBringsTheirKeyframesBack) {
   OnlineFreeze freeze = makeFreeze();
   const Drive out = drive(freeze, straight(0, 100, 2));
   ASSERT_FALSE(out.frozen.empty());
   const Drive back = drive(freeze, straight(98, 0, -2), 1000);
-  EXPECT_GT(freeze.stats().revisits, 0u);
-  // A frozen tile is final: it is never returned again.
-  for (std::size_t tile : back.frozen) EXPECT_EQ(out.frozen.count(tile), 0u);
-  // A retired keyframe stays retired; a removed one never retires.
-  for (std::uint64_t id : out.retired) EXPECT_TRUE(freeze.retired(id));
-  freeze.keyframe(5000, at(500));
-  freeze.removed(5000);
-  for (double x : straight(502, 700, 2)) {
-    freeze.keyframe(6000, at(x));
-    freeze.freezeDue();
-    freeze.retireDue();
+  // Every tile the drive back reached thawed (the tiles frozen on the way out), and the keyframes
+  // of the way out that had reached one came back: all of the way out's retired keyframes.
+  EXPECT_EQ(std::set<std::size_t>(back.thawed.begin(), back.thawed.end()),
+            std::set<std::size_t>(out.frozen.begin(), out.frozen.end()));
+  EXPECT_EQ(back.returned, out.retired);
+  EXPECT_EQ(freeze.stats().thawed_tiles, back.thawed.size());
+  EXPECT_EQ(freeze.stats().returned_keyframes, out.retired.size());
+  // Behind the drive back the tiles froze again, and the keyframes there (of both ways) retired.
+  for (const TileSpec& spec : freeze.tiles()) {
+    EXPECT_EQ(freeze.frozen(spec.index), spec.bounds.min_x_m > smallTiles().radius_m) << spec.name;
   }
-  EXPECT_FALSE(freeze.retired(5000));
+  EXPECT_TRUE(freeze.retired(50));   // the way out's last keyframe, at x = 100
+  EXPECT_TRUE(freeze.retired(1000));  // the way back's first, at x = 98
+  EXPECT_FALSE(freeze.retired(0));    // at x = 0, where the drive is
+  // A removed keyframe, retired or not, never comes back.
+  freeze.removed(50);
+  EXPECT_FALSE(freeze.retired(50));
+  const Drive again = drive(freeze, straight(2, 100, 2), 2000);
+  EXPECT_EQ(again.returned.count(50), 0u);
+  EXPECT_GT(again.returned.count(1000), 0u);
 }
 
 TEST(OnlineFreeze, PlanSortsTheTilesAndKeepsTheirNames) {

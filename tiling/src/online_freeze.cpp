@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace terramesh::tiling {
 
@@ -51,7 +52,7 @@ void OnlineFreeze::keyframe(std::uint64_t id, const Eigen::Vector3d& centre_W) {
   recent_.push_back(xy);
   if (recent_.size() > config_.recent_keyframes) recent_.pop_front();
   std::vector<std::size_t> reach;
-  bool revisit = false;
+  std::vector<std::size_t> thawing;
   for (const Cell& cell : cellsWithin(xy)) {
     auto found = tile_of_.find(cell);
     if (found == tile_of_.end()) {
@@ -70,16 +71,45 @@ void OnlineFreeze::keyframe(std::uint64_t id, const Eigen::Vector3d& centre_W) {
       specs_.push_back(spec);
     }
     Tile& tile = tiles_[found->second];
-    revisit = revisit || tile.frozen;
+    if (tile.frozen) thawing.push_back(found->second);
+    tile.frozen = false;
     tile.last_seen = count_;
     ++specs_[found->second].keyframes;
     reach.push_back(found->second);
   }
-  revisits_ += revisit ? 1 : 0;
   live_[id] = Live{centre_W, std::move(reach)};
+  if (thawing.empty()) return;
+  thawed_.insert(thawed_.end(), thawing.begin(), thawing.end());
+  thawed_count_ += thawing.size();
+  // The keyframes that saw a thawed tile come back, so that it is whole when it freezes again.
+  for (auto it = retired_.begin(); it != retired_.end();) {
+    const std::vector<std::size_t>& tiles = it->second.reach;
+    const bool back = std::any_of(tiles.begin(), tiles.end(), [&](std::size_t t) {
+      return std::find(thawing.begin(), thawing.end(), t) != thawing.end();
+    });
+    if (!back) {
+      ++it;
+      continue;
+    }
+    returned_.push_back(it->first);
+    ++returned_count_;
+    live_.emplace(it->first, std::move(it->second));
+    it = retired_.erase(it);
+  }
 }
 
-void OnlineFreeze::removed(std::uint64_t id) { live_.erase(id); }
+void OnlineFreeze::removed(std::uint64_t id) {
+  live_.erase(id);
+  retired_.erase(id);
+}
+
+std::vector<std::size_t> OnlineFreeze::takeThawed() { return std::exchange(thawed_, {}); }
+
+std::vector<std::uint64_t> OnlineFreeze::takeReturned() {
+  std::vector<std::uint64_t> returned = std::exchange(returned_, {});
+  std::sort(returned.begin(), returned.end());
+  return returned;
+}
 
 std::vector<std::size_t> OnlineFreeze::freezeDue() {
   std::vector<std::size_t> due;
@@ -105,8 +135,9 @@ std::vector<std::uint64_t> OnlineFreeze::retireDue() {
       due.push_back(id);
   }
   for (std::uint64_t id : due) {
-    live_.erase(id);
-    retired_.insert(id);
+    auto it = live_.find(id);
+    retired_.emplace(id, std::move(it->second));
+    live_.erase(it);
   }
   return due;
 }
@@ -157,7 +188,8 @@ FreezeStats OnlineFreeze::stats() const {
   stats.frozen_tiles = static_cast<std::size_t>(
       std::count_if(tiles_.begin(), tiles_.end(), [](const Tile& tile) { return tile.frozen; }));
   stats.retired_keyframes = retired_.size();
-  stats.revisits = revisits_;
+  stats.thawed_tiles = thawed_count_;
+  stats.returned_keyframes = returned_count_;
   return stats;
 }
 

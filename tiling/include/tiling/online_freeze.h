@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <deque>
 #include <map>
-#include <set>
 #include <utility>
 #include <vector>
 
@@ -41,10 +40,11 @@ struct FreezeConfig {
 struct FreezeStats {
   std::size_t tiles = 0;  ///< tiles the drive reached
   std::size_t frozen_tiles = 0;
-  std::size_t retired_keyframes = 0;
-  /// Keyframes that reached a tile already frozen (a loop back): what they add there is meshed
-  /// for the layers of the active region but never written (a frozen tile is final).
-  std::size_t revisits = 0;
+  std::size_t retired_keyframes = 0;  ///< retired now
+  /// A keyframe reached a frozen tile (a loop back): the tile thawed and the retired keyframes
+  /// that had reached it came back. Counted over the drive.
+  std::size_t thawed_tiles = 0;
+  std::size_t returned_keyframes = 0;
 };
 
 /// Decides which tiles freeze and which keyframes retire. Positions in map units (the mesher's),
@@ -56,10 +56,16 @@ class OnlineFreeze {
   /// @throw std::invalid_argument for a bad config or reach.
   OnlineFreeze(const FreezeConfig& config, const traversability::MapPlane& plane, double reach_m);
 
-  /// A keyframe was integrated (or sent again) with its sensor at `centre_W`.
+  /// A keyframe was integrated (or sent again) with its sensor at `centre_W`. Every frozen tile
+  /// within its reach thaws: it will freeze (and be written) again, and the retired keyframes
+  /// that had reached it come back (takeReturned).
   void keyframe(std::uint64_t id, const Eigen::Vector3d& centre_W);
-  /// A keyframe went (the stream removed it).
+  /// A keyframe went (the stream removed it), live or retired.
   void removed(std::uint64_t id);
+  /// The tiles thawed and the keyframes brought back since the last call, in id order: integrate
+  /// those keyframes again (their latest version). They are live again.
+  std::vector<std::size_t> takeThawed();
+  std::vector<std::uint64_t> takeReturned();
 
   /// Tiles that freeze now (indices into tiles(), in creation order); each is returned once.
   std::vector<std::size_t> freezeDue();
@@ -103,8 +109,10 @@ class OnlineFreeze {
     std::vector<std::size_t> reach;  ///< the tiles within reach
   };
   std::map<std::uint64_t, Live> live_;
-  std::set<std::uint64_t> retired_;
-  std::size_t revisits_ = 0;
+  std::map<std::uint64_t, Live> retired_;
+  std::vector<std::size_t> thawed_;
+  std::vector<std::uint64_t> returned_;
+  std::size_t thawed_count_ = 0, returned_count_ = 0;
 };
 
 }  // namespace terramesh::tiling
