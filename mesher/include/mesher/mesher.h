@@ -138,7 +138,8 @@ class Mesher {
   /// removing the keyframes of a region left behind). Every Steiner vertex farther than `reach_m`
   /// plus the grid's margin and two cells from each of `keep_W` (map units: the cameras of the
   /// keyframes kept) whose cells are outside O, crossed by no ray and spanned by Steiner vertices
-  /// only leaves the triangulation; the surface and every ray are unchanged. From the first call
+  /// only leaves the triangulation (but for a node on the hull whose neighbours lie in one plane);
+  /// the surface and every ray are unchanged. From the first call
   /// on, the lattice grows only around new data (not as a whole box), and comes back where data
   /// comes back. Not in the baselines' fixed grid (then a no-op). A mesher that released nodes is
   /// not checkpointed (saveCheckpoint throws std::logic_error). O(Steiner vertices).
