@@ -392,7 +392,7 @@ void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesyst
   }
   if (evidence_.warning()) summary << "warning: " << *evidence_.warning() << '\n';
   if (traversability_) traversability_->finish(*mesher_, summary);
-  if (freeze_) freeze_->finish(*traversability_, tile_ ? tile_->input() : stream_, mesher_->revision(), summary);
+  if (freeze_) freeze_->finish(*traversability_, stream_, mesher_->revision(), summary);  // never with --tile
   writeFileAtomically(output_ / "summary.txt", summary.str());
   if (!o_.quiet) std::cout << summary.str();
 }
