@@ -1,5 +1,6 @@
-// terramesh plan MAP_DIR --start X Y Z --goal X Y Z -o OUT: a path a ground robot can drive, on the
+// terramesh plan MAP --start X Y Z --goal X Y Z -o OUT: a path a ground robot can drive, on the
 // traversability mesh, with OMPL; or --random-pairs N for a benchmark against the face-graph optimum.
+// MAP is a map directory or a tiled map (plan_tiles.h).
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "cli_args.h"
 #include "commands.h"
+#include "plan_tiles.h"
 #include "common/atomic_file.h"
 #include "planning/face_graph.h"
 #include "planning/ompl_benchmark_log.h"
@@ -132,6 +134,7 @@ struct PlanOptions {
   std::uint32_t seed = 1;
   std::optional<std::size_t> random_pairs;
   std::optional<std::string> robot;
+  std::optional<double> tile_margin_m;
   bool no_simplify = false, quiet = false, allow_unknown = false, allow_uncertain = false;
 };
 
@@ -140,8 +143,9 @@ void declareOptions(CLI::App& app, PlanOptions& o) {
   app.footer(
       "writes OUT/path.csv (x,y,z,yaw,face,cost), OUT/path.ply (line set) and OUT/plan.txt; exit code 3 when the "
       "goal is unreachable (one-line reason)");
-  app.add_option("MAP_DIR", o.map_dir,
-                 "map directory written by terramesh traverse (traversability.ply, robot.yaml, map_frame.yaml)")
+  app.add_option("MAP", o.map_dir,
+                 "map directory written by terramesh traverse or mesh (traversability.ply, robot.yaml, "
+                 "map_frame.yaml), or a tiled map: its tile index (tiles.json of terramesh tiles merge) or its folder")
       ->required();
   app.add_option("--start", o.start_xyz, "start point, map frame and units (snapped to the nearest walkable face)")
       ->expected(3)
@@ -169,6 +173,10 @@ void declareOptions(CLI::App& app, PlanOptions& o) {
       ->check(positiveNumber());
   app.add_option("--robot", o.robot, "recompute the layers for this robot profile (YAML) instead of robot.yaml")
       ->option_text("FILE");
+  app.add_option("--tile-margin-m", o.tile_margin_m,
+                 "tiled map: load the tiles within this distance of start and goal first, twice as far while they "
+                 "do not connect the two (default: one tile)")
+      ->option_text("M");
   app.add_flag("--no-simplify", o.no_simplify, "keep the planner's raw path");
   app.add_flag("--quiet", o.quiet, "print nothing but errors");
 }
@@ -202,6 +210,50 @@ traversability::MapDirectory loadMap(const PlanOptions& o) {
   return map;
 }
 
+/// Writes plan.txt (`describe` and `extra` lines) and, for a path, path.csv and path.ply; the exit
+/// code: 0 solved, 1 not found in the budget, 3 unreachable.
+int finishPlan(const planning::PlanResult& result, const std::filesystem::path& out, bool quiet,
+               const std::string& extra) {
+  writeFileAtomically(out / "plan.txt", describe(result) + extra);
+  if (result.solved()) {
+    writePathFiles(out, result);
+    if (!quiet) std::cout << describe(result) << extra;
+    return kExitOk;
+  }
+  if (result.status == planning::PlanStatus::kNotFound) {
+    std::cerr << "terramesh: plan: " << result.reason << '\n';
+    return kExitFailure;
+  }
+  std::cerr << "terramesh: plan: unreachable: " << result.reason << '\n';
+  return kExitUnreachable;
+}
+
+/// The walkability the options ask for, for `profile`.
+planning::WalkabilityConfig walkabilityOf(const PlanOptions& o, const traversability::RobotProfile& profile) {
+  planning::WalkabilityConfig walkability = planning::walkabilityFor(profile);
+  walkability.allow_unknown = o.allow_unknown;
+  walkability.unknown_cost = o.unknown_cost;
+  walkability.allow_uncertain = o.allow_uncertain;
+  return walkability;
+}
+
+/// One query on a tiled map: the tiles around start and goal, joined (plan_tiles.h).
+int runPlanOnTiles(const PlanOptions& o, const std::filesystem::path& index, const planning::PlannerConfig& config) {
+  if (o.robot) throw UsageError("plan: --robot recomputes one map's layers; a tiled map's were computed per tile");
+  if (o.random_pairs) throw UsageError("plan: --random-pairs needs a map directory, not a tile index");
+  if (o.tile_margin_m && !(*o.tile_margin_m > 0)) throw UsageError("plan: --tile-margin-m must be > 0");
+  const Eigen::Vector3d start = toPoint(o.start_xyz, "--start"), goal = toPoint(o.goal_xyz, "--goal");
+  const TiledPlan tiled = planOnTiles(
+      index, start, goal, o.tile_margin_m, o.snap_radius_m,
+      [&](const traversability::LayeredMesh& map, const traversability::RobotProfile& profile) {
+        const planning::FaceGraph graph(map, walkabilityOf(o, profile));
+        return planning::SurfacePlanner(graph, config, o.planner == "graph").plan(start, goal);
+      });
+  const std::filesystem::path out = o.output_dir;
+  std::filesystem::create_directories(out);
+  return finishPlan(tiled.result, out, o.quiet, tiled.describe());
+}
+
 }  // namespace
 
 int runPlan(const std::vector<std::string>& args) {
@@ -215,35 +267,20 @@ int runPlan(const std::vector<std::string>& args) {
     throw UsageError("plan: give --start X Y Z and --goal X Y Z, or --random-pairs N");
   }
   const planning::PlannerConfig config = plannerConfig(o);
-  const traversability::MapDirectory map = loadMap(o);
-  planning::WalkabilityConfig walkability = planning::walkabilityFor(map.profile);
-  walkability.allow_unknown = o.allow_unknown;
-  walkability.unknown_cost = o.unknown_cost;
-  walkability.allow_uncertain = o.allow_uncertain;
-  const planning::FaceGraph graph(map.map, walkability);
   planning::setOmplLogging(false);
   planning::seedOmpl(config.seed);
+  if (const std::optional<std::filesystem::path> index = tileIndexOf(o.map_dir)) {
+    return runPlanOnTiles(o, *index, config);
+  }
+  if (o.tile_margin_m) throw UsageError("plan: --tile-margin-m needs a tile index (tiles.json) as MAP");
+  const traversability::MapDirectory map = loadMap(o);
+  const planning::FaceGraph graph(map.map, walkabilityOf(o, map.profile));
 
   const std::filesystem::path out = o.output_dir;
-  if (random) {
-    std::filesystem::create_directories(out);
-    return runRandomPairs(graph, config, o.planner == "graph", *o.random_pairs, out, o.quiet);
-  }
-  const Eigen::Vector3d start = toPoint(o.start_xyz, "--start"), goal = toPoint(o.goal_xyz, "--goal");
   std::filesystem::create_directories(out);
-  const planning::PlanResult result = planning::SurfacePlanner(graph, config, o.planner == "graph").plan(start, goal);
-  writeFileAtomically(out / "plan.txt", describe(result));
-  if (result.solved()) {
-    writePathFiles(out, result);
-    if (!o.quiet) std::cout << describe(result);
-    return kExitOk;
-  }
-  if (result.status == planning::PlanStatus::kNotFound) {
-    std::cerr << "terramesh: plan: " << result.reason << '\n';
-    return kExitFailure;
-  }
-  std::cerr << "terramesh: plan: unreachable: " << result.reason << '\n';
-  return kExitUnreachable;
+  if (random) return runRandomPairs(graph, config, o.planner == "graph", *o.random_pairs, out, o.quiet);
+  const Eigen::Vector3d start = toPoint(o.start_xyz, "--start"), goal = toPoint(o.goal_xyz, "--goal");
+  return finishPlan(planning::SurfacePlanner(graph, config, o.planner == "graph").plan(start, goal), out, o.quiet, "");
 }
 
 }  // namespace terramesh::cli

@@ -114,6 +114,24 @@ class TilesTest(unittest.TestCase):
             self.assertGreaterEqual(float(fraction), MIN_BORDER_AGREEMENT, f"border {a}|{b}: {self.merge_output}")
             self.assertGreaterEqual(float(free_fraction), MIN_FREE_AGREEMENT, f"border {a}|{b}: {self.merge_output}")
 
+    def test_a_path_crosses_the_tiles_meshed_apart(self):
+        # From the road under the first keyframes to the road under the last ones (trajectory.txt:
+        # KITTI rows, the camera 1.65 m over the road, up +z), on the four tiles joined.
+        rows = [list(map(float, line.split())) for line in
+                (self.tmp / "data" / "trajectory.txt").read_text().splitlines() if line.strip()]
+        start, goal = ((r[3], r[7], r[11] - 1.65) for r in (rows[3], rows[-4]))
+        out = self.tmp / "plan_across"
+        result = run("plan", str(self.serial), "--planner", "graph", "--start", *map(str, start), "--goal",
+                     *map(str, goal), "--snap-radius-m", "1.0", "-o", str(out), "--quiet", check=False)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        values = dict(line.split(" ", 1) for line in (out / "plan.txt").read_text().splitlines())
+        self.assertEqual(int(values["tiles_loaded"]), TILES)
+        self.assertGreater(int(values["border_edges"]), 0)
+        self.assertGreater(float(values["length_m"]), 100.0)
+        check = run("traverse-eval", str(self.serial / "tile_000" / "map"), "--gt-mesh",
+                    str(self.tmp / "data" / "ground_truth.ply"), "--path", str(out / "path.csv")).stdout
+        self.assertIn("paths_valid 1", check, check)
+
     def test_slurm_run_is_byte_identical_to_serial(self):
         missing = missing_programs()
         self.assertEqual(missing, [], "the Slurm test needs slurm-wlm and munge (scripts/install_deps.sh): missing "
@@ -276,6 +294,52 @@ class FreezeTest(unittest.TestCase):
         self.assertGreater(float(match.group(1)), 0.95, result.stdout)
         self.assertLess(float(match.group(2)), 10.0, result.stdout)
         self.assertRegex(result.stdout, r"drive: \d+ keyframes, \d+ tiles")
+
+    def plan_on(self, map_path, start, goal, name, *extra):
+        out = self.tmp / name
+        result = run("plan", str(map_path), "--planner", "graph", "--start", *map(str, start), "--goal",
+                     *map(str, goal), "--snap-radius-m", "1.0", "-o", str(out), "--quiet", *extra, check=False)
+        text = (out / "plan.txt").read_text() if (out / "plan.txt").exists() else ""
+        values = dict(line.split(" ", 1) for line in text.splitlines() if " " in line)
+        return result, values, out / "path.csv"
+
+    def test_plan_crosses_the_frozen_tiles_as_on_the_whole_map(self):
+        # Start and goal on the road under keyframes (the camera 1.65 m up, the map's up +z).
+        with open(self.frozen / "trajectory.csv", newline="") as f:
+            ground = [(float(r["x"]), float(r["y"]), float(r["z"]) - 1.65) for r in csv.DictReader(f)]
+        index = self.frozen / "tiles" / "tiles.json"
+        paths = []
+        for name, (a, b), extra in (("long", (3, len(ground) - 8), ()),
+                                    ("short", (len(ground) // 4, len(ground) // 2), ("--tile-margin-m", "2"))):
+            tiled, values, path = self.plan_on(index.parent, ground[a], ground[b], "tiles_" + name, *extra)
+            self.assertEqual(tiled.returncode, 0, tiled.stderr)
+            whole, whole_values, _ = self.plan_on(self.whole, ground[a], ground[b], "whole_" + name)
+            self.assertEqual(whole.returncode, 0, whole.stderr)
+            # The same path as on the map meshed whole (measured: equal lengths).
+            self.assertAlmostEqual(float(values["length_m"]), float(whole_values["length_m"]),
+                                   delta=0.01 * float(whole_values["length_m"]))
+            self.assertGreater(int(values["border_edges"]), 0)
+            self.assertGreaterEqual(int(values["tiles_loaded"]), 3)
+            paths.append(str(path))
+        # Only the tiles around the short query were loaded.
+        self.assertLess(int(values["tiles_loaded"]), int(values["tiles_with_faces"]))
+        # Both paths hold on the generator's truth (planner_demo's strict check).
+        tile_map = next(p.parent for p in sorted((self.frozen / "tiles").glob("tile_*/map/traversability.ply")))
+        check = run("traverse-eval", str(tile_map), "--gt-mesh", str(self.tmp / "data" / "ground_truth.ply"),
+                    "--path", *paths).stdout
+        self.assertIn("paths_valid 2", check, check)
+
+    def test_plan_on_a_bad_tile_index_names_the_field(self):
+        index = json.loads((self.frozen / "tiles" / "tiles.json").read_text())
+        index["tiles"][0]["files"] = []
+        bad = self.frozen / "tiles" / "tiles_bad.json"
+        bad.write_text(json.dumps(index))
+        result, _, _ = self.plan_on(bad, (0, 0, 0), (10, 0, 0), "bad")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("tiles[0].files: expected a traversability.ply", result.stderr)
+        result, _, _ = self.plan_on(self.frozen / "tiles", (0, 0, 0), (10, 0, 0), "bad", "--robot", ROBOT)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("--robot", result.stderr)
 
     def test_freeze_refuses_what_it_cannot_do(self):
         result = run("mesh", self.stream, "-o", str(self.tmp / "bad"), "--freeze-radius-m", "80", check=False)

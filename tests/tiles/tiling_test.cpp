@@ -6,6 +6,7 @@
 #include <set>
 
 #include "common/input_error.h"
+#include "free_floor.h"
 #include "test_support/temp_dir.h"
 #include "test_support/traversability_scenes.h"
 #include "tiling/tile_files.h"
@@ -135,19 +136,7 @@ TEST(SelectTileInput, RemovalsFollowTheTile) {
 }
 
 /// A flat 30 x 10 m floor of free faces (1 m grid), up +z.
-traversability::LayeredMesh flatMap() {
-  traversability::LayeredMesh map;
-  map.mesh = test::heightFieldMesh(0, 30, 0, 10, 1.0, [](double, double) { return 0.0; });
-  map.layers.resize(map.mesh.faces.size());
-  for (traversability::FaceLayers& layers : map.layers) {
-    layers.face_class = traversability::FaceClass::kFree;
-    layers.cost = 0;
-    layers.rays = 10;
-    layers.evidence = traversability::Evidence::kMeasured;
-    layers.height_uncertainty_m = 0.01f;
-  }
-  return map;
-}
+traversability::LayeredMesh flatMap() { return test_floor::freeFloor(0, 30); }
 
 TEST(OwnedPart, PartsPartitionTheFacesByCentroid) {
   traversability::LayeredMesh map = flatMap();
