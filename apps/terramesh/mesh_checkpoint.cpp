@@ -15,9 +15,9 @@ namespace {
 
 // The run state travels as the checkpoint's application data: "key value" lines, the totals as
 // raw bytes in hex (their layout is this build's: a checkpoint is resumed by the build that wrote
-// it), the trajectory evidence settings (TrajectoryEvidenceRun::settings), then the CSV after a
-// "csv" line.
-constexpr const char* kStateTag = "terramesh-mesh-run 2";
+// it), the trajectory evidence settings (TrajectoryEvidenceRun::settings), the freeze's settings
+// and state (MeshFreeze), then the CSV after a "csv" line.
+constexpr const char* kStateTag = "terramesh-mesh-run 3";
 static_assert(std::is_trivially_copyable_v<mesher::UpdateStats>);
 
 class Fnv {
@@ -68,7 +68,7 @@ std::string encode(const MeshRunState& state) {
   out << kStateTag << "\nfingerprint " << state.stream_fingerprint << "\nevents " << state.events << "\nnext_event "
       << state.next_event << "\nkeyframes " << state.keyframes << "\ntotals " << sizeof(state.totals) << ' '
       << toHex(&state.totals, sizeof(state.totals)) << "\ntrajectory_evidence " << state.trajectory_evidence
-      << "\ncsv\n"
+      << "\nfreeze_settings " << state.freeze_settings << "\nfreeze_state " << state.freeze_state << "\ncsv\n"
       << state.csv;
   return out.str();
 }
@@ -104,6 +104,12 @@ MeshRunState decode(const std::string& text, const std::string& file) {
   in.ignore(1);
   if (!std::getline(in, state.trajectory_evidence) || state.trajectory_evidence.empty()) {
     throw InputError(file, "run state.trajectory_evidence", "expected the trajectory evidence settings");
+  }
+  for (auto [name, value] : {std::pair<const char*, std::string*>{"freeze_settings", &state.freeze_settings},
+                             std::pair<const char*, std::string*>{"freeze_state", &state.freeze_state}}) {
+    field(name);
+    in.ignore(1);
+    if (!std::getline(in, *value)) throw InputError(file, std::string("run state.") + name, "expected a line");
   }
   if (!std::getline(in, line) || line != "csv") throw InputError(file, "run state", "expected the \"csv\" line");
   state.csv.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());

@@ -26,6 +26,9 @@ struct MeshRunState {
   std::string csv;                       ///< keyframes.csv so far, header included
   /// TrajectoryEvidenceRun::settings() of the run ("off" or the height and layout of the samples).
   std::string trajectory_evidence = "off";
+  /// With --freeze-radius-m: MeshFreeze::settings() and MeshFreeze::state() ("off" and "" without).
+  std::string freeze_settings = "off";
+  std::string freeze_state;
 };
 
 /// FNV-1a over every event's kind, ids, poses and observations: tells whether a resume reads the

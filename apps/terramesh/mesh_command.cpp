@@ -156,6 +156,10 @@ class MeshJob {
   /// The freeze after event `i`: tiles written, keyframes retired from the mesher, layers updated.
   void freezeAfter(std::size_t i, const datasets::StreamEvent& event);
   void saveCheckpoint(std::size_t next_event);
+  /// --resume of a run with the freeze: the freeze's decisions and the evidence up to event
+  /// `next_event`, replayed from the stream without the mesher (the checkpoint's), then the records
+  /// of the tiles written before it.
+  void replayFreeze(std::size_t next_event);
   void writeSummary(const mesher::TriangleMesh& mesh, const std::filesystem::path& mesh_path);
   /// The events meshed: the stream's, or the tile's input.
   const std::vector<datasets::StreamEvent>& events() const { return tile_ ? tile_->input().events : stream_.events; }
@@ -201,6 +205,12 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr);
   freeze_ = MeshFreeze::fromOptions(o.freeze, traversability_ ? &*traversability_ : nullptr,
                                     config_.max_camera_distance_m, output_);
+  const std::string freeze_settings = freeze_ ? freeze_->settings() : "off";
+  if (resumed_ && resumed_->state.freeze_settings != freeze_settings) {
+    throw InputError(*o.resume_path, "run state.freeze_settings",
+                     "made with the freeze \"" + resumed_->state.freeze_settings + "\", this run has \"" +
+                         freeze_settings + "\"; resume with the freeze options of the interrupted run");
+  }
   if (resumed_ && resumed_->state.trajectory_evidence != evidence_.settings()) {
     throw InputError(*o.resume_path, "run state.trajectory_evidence",
                      "made with trajectory evidence \"" + resumed_->state.trajectory_evidence + "\", this run has \"" +
@@ -215,12 +225,17 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   state_.events = events().size();
   if (o.checkpoint_every > 0 && !resumed_) state_.stream_fingerprint = streamFingerprint(stream_);
   state_.trajectory_evidence = evidence_.settings();
+  state_.freeze_settings = freeze_settings;
   mesher_.emplace(resumed_ ? std::move(resumed_->mesher) : mesher::Mesher(config_));
   if (traversability_ && evidence_.enabled()) {
     traversability_->setDrivePoses(evidence_.drivePoses(), evidence_.sensorHeightM());
   }
   // The poses first: the layers read where the robot faced on its driven samples.
-  if (resumed_) evidence_.replay(stream_, state_.next_event);
+  if (resumed_ && freeze_) {
+    replayFreeze(state_.next_event);
+  } else if (resumed_) {
+    evidence_.replay(stream_, state_.next_event);
+  }
   if (traversability_ && resumed_) traversability_->resume(*mesher_, state_.keyframes);
   // Said once the options proved valid: a refused run prints its one error line only.
   if (!o.quiet) {
@@ -243,7 +258,25 @@ void MeshJob::saveCheckpoint(std::size_t next_event) {
   state_.keyframes = keyframes_;
   state_.totals = totals_;
   state_.csv = csv_.str();
+  if (freeze_) state_.freeze_state = freeze_->state();
   writeMeshCheckpoint(output_ / kCheckpointFileName, *mesher_, state_);
+}
+
+void MeshJob::replayFreeze(std::size_t next_event) {
+  for (std::size_t i = 0; i < next_event; ++i) {
+    const datasets::StreamEvent& event = events()[i];
+    if (freeze_->skips(event, i)) continue;
+    evidence_.replayEvent(event);
+    if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) freeze_->removed(removal->keyframe);
+    const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
+    if (keyframe == nullptr) continue;
+    const MeshFreeze::Step step = freeze_->afterKeyframe(*keyframe, i, nullptr, 0);
+    for (std::size_t e : step.returned_events) evidence_.replayEvent(events()[e]);
+    if (step.retire.empty()) continue;
+    evidence_.replayRetire(step.retire);
+    evidence_.forgetPointsBeyond(freeze_->liveCentres(), 2 * config_.max_camera_distance_m);
+  }
+  freeze_->restore(state_.freeze_state, o_.resume_path.value_or(""));
 }
 
 void MeshJob::run() {
@@ -300,7 +333,7 @@ void MeshJob::freezeAfter(std::size_t i, const datasets::StreamEvent& event) {
   }
   const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
   if (keyframe == nullptr) return;
-  const MeshFreeze::Step step = freeze_->afterKeyframe(*keyframe, i, *traversability_, mesher_->revision());
+  const MeshFreeze::Step step = freeze_->afterKeyframe(*keyframe, i, &*traversability_, mesher_->revision());
   // Retired keyframes that saw a tile reached again come back, each at its latest version.
   for (std::size_t e : step.returned_events) {
     const mesher::UpdateStats stats = evidence_.apply(*mesher_, events()[e]);
@@ -416,9 +449,7 @@ int runMesh(const std::vector<std::string>& args) {
     o.output_dir = tile->outputDirectory().string();
   }
   if (o.output_dir.empty()) throw UsageError("mesh: -o/--output DIR is required");
-  if (o.freeze.radius_m && (o.tile || o.resume_path || o.checkpoint_every > 0)) {
-    throw UsageError("mesh: --freeze-radius-m cannot be combined with --tile, --resume or --checkpoint-every");
-  }
+  if (o.freeze.radius_m && o.tile) throw UsageError("mesh: --freeze-radius-m cannot be combined with --tile");
   // Read and validate everything before creating any output.
   MeshJob job(o, *mode, std::move(tile));
   // From the first event to the last output, a signal finishes the work in progress.

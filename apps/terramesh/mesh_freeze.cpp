@@ -3,12 +3,14 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <utility>
 #include <variant>
 
+#include "common/input_error.h"
 #include "tiling/tile_map.h"
 #include "traversability/map_directory.h"
 
@@ -48,13 +50,14 @@ std::optional<MeshFreeze> MeshFreeze::fromOptions(const FreezeOptions& options,
   const traversability::MapFrame& frame = session->frame();
   const traversability::MapPlane plane =
       traversability::MapPlane::fromUp(frame.up_W, frame.metres_per_unit);
-  return MeshFreeze(tiling::OnlineFreeze(config, plane, reach_m), output / "tiles" / "plan.json",
-                    *session);
+  return MeshFreeze(tiling::OnlineFreeze(config, plane, reach_m), config,
+                    output / "tiles" / "plan.json", *session);
 }
 
-MeshFreeze::MeshFreeze(tiling::OnlineFreeze freeze, std::filesystem::path plan_path,
-                       const TraversabilitySession& session)
+MeshFreeze::MeshFreeze(tiling::OnlineFreeze freeze, const tiling::FreezeConfig& config,
+                       std::filesystem::path plan_path, const TraversabilitySession& session)
     : freeze_(std::move(freeze)),
+      config_(config),
       plan_path_(std::move(plan_path)),
       up_W_(session.frame().up_W),
       metres_per_unit_(session.frame().metres_per_unit) {}
@@ -103,7 +106,7 @@ void MeshFreeze::writeTile(const traversability::LayeredMesh& map, const tiling:
 }
 
 MeshFreeze::Step MeshFreeze::afterKeyframe(const mesher::Keyframe& keyframe, std::size_t index,
-                                           const TraversabilitySession& session,
+                                           const TraversabilitySession* session,
                                            std::uint64_t revision) {
   latest_event_[keyframe.id.value] = index;
   freeze_.keyframe(keyframe.id.value, keyframe.position_W_C);
@@ -113,15 +116,71 @@ MeshFreeze::Step MeshFreeze::afterKeyframe(const mesher::Keyframe& keyframe, std
   for (std::uint64_t id : freeze_.takeReturned()) step.returned_events.push_back(latest_event_.at(id));
   std::sort(step.returned_events.begin(), step.returned_events.end());
   const std::vector<std::size_t> due = freeze_.freezeDue();
-  if (!due.empty()) {
-    const traversability::LayeredMesh map = session.snapshot();
+  if (!due.empty() && session != nullptr) {
+    const traversability::LayeredMesh map = session->snapshot();
     const tiling::TilePlan plan = freeze_.plan(up_W_, metres_per_unit_, 0, 0);
     const std::vector<std::size_t> indices = planIndices(plan, freeze_.tiles());
-    for (std::size_t tile : due) writeTile(map, plan, indices[tile], tile, session, revision);
-    frozen_during_run_ += due.size();
+    for (std::size_t tile : due) writeTile(map, plan, indices[tile], tile, *session, revision);
   }
+  frozen_during_run_ += due.size();
   for (std::uint64_t id : freeze_.retireDue()) step.retire.push_back(mesher::KeyframeId{id});
   return step;
+}
+
+std::string MeshFreeze::settings() const {
+  std::ostringstream line;
+  line.precision(17);
+  line << "radius_m=" << config_.radius_m << " tile_m=" << config_.tile_m
+       << " recent_keyframes=" << config_.recent_keyframes
+       << " idle_keyframes=" << config_.idle_keyframes;
+  return line.str();
+}
+
+std::string MeshFreeze::state() const {
+  // "records N", then per record: tile revision faces, the level heights and the files, each
+  // list after its length (file names hold no spaces: writeMapDirectory's).
+  std::ostringstream line;
+  line.precision(17);
+  line << "records " << records_.size();
+  for (const auto& [tile, record] : records_) {
+    line << ' ' << tile << ' ' << record.revision << ' ' << record.faces << ' '
+         << record.level_heights_m.size();
+    for (double height : record.level_heights_m) line << ' ' << height;
+    line << ' ' << record.files.size();
+    for (const std::string& file : record.files) line << ' ' << file;
+  }
+  return line.str();
+}
+
+void MeshFreeze::restore(const std::string& line, const std::string& file) {
+  std::istringstream in(line);
+  std::string tag;
+  std::size_t count = 0;
+  const auto fail = [&](const std::string& problem) {
+    throw InputError(file, "run state.freeze_state", problem);
+  };
+  if (!(in >> tag >> count) || tag != "records") fail("expected \"records N\"");
+  std::map<std::size_t, tiling::TileRecord> records;
+  for (std::size_t r = 0; r < count; ++r) {
+    std::size_t tile = 0, levels = 0, files = 0;
+    tiling::TileRecord record;
+    if (!(in >> tile >> record.revision >> record.faces >> levels)) fail("a truncated tile record");
+    record.level_heights_m.resize(levels);
+    for (double& height : record.level_heights_m) in >> height;
+    if (!(in >> files)) fail("a truncated tile record");
+    record.files.resize(files);
+    for (std::string& name : record.files) in >> name;
+    if (!in || tile >= freeze_.tiles().size() || !freeze_.frozen(tile)) {
+      fail("the record of tile " + std::to_string(tile) + ", which the stream's replay did not freeze");
+    }
+    records.emplace(tile, std::move(record));
+  }
+  for (std::size_t tile = 0; tile < freeze_.tiles().size(); ++tile) {
+    if (freeze_.frozen(tile) && records.count(tile) == 0) {
+      fail("no record of tile " + std::to_string(tile) + ", which the stream's replay froze");
+    }
+  }
+  records_ = std::move(records);
 }
 
 void MeshFreeze::finish(const TraversabilitySession& session, const datasets::SlamStream& stream,

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <string>
 #include <ostream>
 #include <unordered_map>
 #include <vector>
@@ -53,9 +54,21 @@ class MeshFreeze {
   };
   /// After keyframe `keyframe` (event `index`) was integrated and the layers updated: thaws the
   /// frozen tiles it reached, writes the tiles that froze from `session`'s map at mesher revision
-  /// `revision` and says which keyframes come back and which retire.
+  /// `revision` and says which keyframes come back and which retire. Without a session (the replay
+  /// of --resume) it decides alike and writes nothing: the tiles are on disk, their records in the
+  /// checkpoint (restore).
   Step afterKeyframe(const mesher::Keyframe& keyframe, std::size_t index,
-                     const TraversabilitySession& session, std::uint64_t revision);
+                     const TraversabilitySession* session, std::uint64_t revision);
+
+  /// The options that decide what freezes, as one line: a resumed run must have the same.
+  std::string settings() const;
+  /// The records of the tiles written and frozen, as one line (for a checkpoint).
+  std::string state() const;
+  /// After replaying the stream up to a checkpoint (skips and afterKeyframe without a session):
+  /// takes the records of state() back.
+  /// @throw terramesh::InputError naming `file` if the line is malformed or its tiles are not the
+  ///        ones the replay froze.
+  void restore(const std::string& line, const std::string& file);
   /// The sensor positions of the keyframes still in the mesher (map units).
   std::vector<Eigen::Vector3d> liveCentres() const { return freeze_.liveCentres(); }
   /// The stream removed keyframe `id`.
@@ -66,8 +79,8 @@ class MeshFreeze {
               std::uint64_t revision, std::ostream& summary);
 
  private:
-  MeshFreeze(tiling::OnlineFreeze freeze, std::filesystem::path plan_path,
-             const TraversabilitySession& session);
+  MeshFreeze(tiling::OnlineFreeze freeze, const tiling::FreezeConfig& config,
+             std::filesystem::path plan_path, const TraversabilitySession& session);
   /// Writes tile `tile` (creation index; `plan_index` in `plan`) of `map` into its map folder and
   /// keeps its record.
   void writeTile(const traversability::LayeredMesh& map, const tiling::TilePlan& plan,
@@ -75,6 +88,7 @@ class MeshFreeze {
                  std::uint64_t revision);
 
   tiling::OnlineFreeze freeze_;
+  tiling::FreezeConfig config_;
   std::filesystem::path plan_path_;
   Eigen::Vector3d up_W_;
   double metres_per_unit_;

@@ -88,15 +88,21 @@ mesher::UpdateStats TrajectoryEvidenceRun::apply(mesher::Mesher& mesher, const d
 }
 
 void TrajectoryEvidenceRun::replay(const datasets::SlamStream& stream, std::size_t events) {
+  for (std::size_t i = 0; i < events && i < stream.events.size(); ++i) replayEvent(stream.events[i]);
+}
+
+void TrajectoryEvidenceRun::replayEvent(const datasets::StreamEvent& event) {
   if (!evidence_) return;
-  for (std::size_t i = 0; i < events && i < stream.events.size(); ++i) {
-    const datasets::StreamEvent& event = stream.events[i];
-    if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
-      evidence_->augment(*keyframe);
-    } else if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
-      evidence_->remove(removal->keyframe);
-    }
+  if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
+    evidence_->augment(*keyframe);
+  } else if (const auto* removal = std::get_if<datasets::KeyframeRemoval>(&event)) {
+    evidence_->remove(removal->keyframe);
   }
+}
+
+void TrajectoryEvidenceRun::replayRetire(const std::vector<mesher::KeyframeId>& ids) {
+  if (!evidence_) return;
+  for (const mesher::KeyframeId& id : ids) evidence_->remove(id);
 }
 
 std::string TrajectoryEvidenceRun::settings() const {

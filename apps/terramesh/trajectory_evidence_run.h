@@ -52,6 +52,10 @@ class TrajectoryEvidenceRun {
   }
   /// Brings the keyframe poses up to event `events` without meshing (for --resume).
   void replay(const datasets::SlamStream& stream, std::size_t events);
+  /// One event of that replay: what apply() records, without the mesher.
+  void replayEvent(const datasets::StreamEvent& event);
+  /// What retire() records, without the mesher (--resume of a run with the freeze).
+  void replayRetire(const std::vector<mesher::KeyframeId>& ids);
 
   bool enabled() const { return evidence_.has_value(); }
   /// The mesher's ground rule for this evidence (TrajectoryEvidence::configureMesher); none when off.

@@ -4,6 +4,7 @@
 // uids exactly as the saved one.
 #include <algorithm>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include "checkpoint_access.h"
@@ -158,10 +159,6 @@ void CheckpointAccess::readTriangulation(MapState& state, ByteReader& in, Handle
 
 void CheckpointAccess::writeGridAndHash(const MapState& state, ByteWriter& out, const Numbering& numbering) {
   const SteinerGrid& grid = state.grid;
-  if (grid.sparse_) {
-    throw std::logic_error("saveCheckpoint: the mesher let go of Steiner nodes (Mesher::releaseFarSteiner, the online "
-                           "freeze); its sparse lattice is not checkpointed");
-  }
   out.f64(grid.step_);
   out.f64(grid.origin_.x());
   out.f64(grid.origin_.y());
@@ -169,6 +166,16 @@ void CheckpointAccess::writeGridAndHash(const MapState& state, ByteWriter& out, 
   out.u8(grid.initialized_ ? 1 : 0);
   writeKey(out, grid.lo_);
   writeKey(out, grid.hi_);
+  // A sparse lattice (the online freeze let nodes go): the nodes it holds, sorted, for equal bytes.
+  out.u8(grid.sparse_ ? 1 : 0);
+  if (grid.sparse_) {
+    std::vector<GridKey> present(grid.present_.begin(), grid.present_.end());
+    std::sort(present.begin(), present.end(), [](const GridKey& a, const GridKey& b) {
+      return std::tie(a.i, a.j, a.k) < std::tie(b.i, b.j, b.k);
+    });
+    out.u64(present.size());
+    for (const GridKey& key : present) writeKey(out, key);
+  }
 
   const BoundaryHash& hash = state.hash;
   out.u8(hash.spatial_ ? 1 : 0);
@@ -205,6 +212,18 @@ void CheckpointAccess::readGridAndHash(MapState& state, ByteReader& in, const Ha
   grid.lo_ = readKey(in);
   grid.hi_ = readKey(in);
   if (!grid.origin_.allFinite()) in.fail("a finite grid origin");
+  grid.sparse_ = in.flag();
+  grid.present_.clear();
+  if (grid.sparse_) {
+    const std::size_t count = in.count(12);
+    grid.present_.reserve(count);
+    for (std::size_t n = 0; n < count; ++n) {
+      const GridKey key = readKey(in);
+      const bool inside = key.i >= grid.lo_.i && key.i <= grid.hi_.i && key.j >= grid.lo_.j && key.j <= grid.hi_.j &&
+                          key.k >= grid.lo_.k && key.k <= grid.hi_.k;
+      if (!inside || !grid.present_.insert(key).second) in.fail("each lattice node once, within the grid's bounds");
+    }
+  }
 
   in.section("boundary hash");
   BoundaryHash& hash = state.hash;

@@ -341,14 +341,41 @@ class FreezeTest(unittest.TestCase):
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("--robot", result.stderr)
 
+    def test_a_resumed_freeze_writes_the_uninterrupted_tiles(self):
+        # Checkpoints every 60 keyframes: the last one (keyframe 120 of 125) comes after tiles froze
+        # and keyframes retired. The run is taken back to that checkpoint (the files written only
+        # at the end removed) and resumed.
+        options = ("--robot", ROBOT, "--freeze-radius-m", "80", "--freeze-tile-m", "40", "--quiet")
+        first = self.tmp / "checkpointed"
+        run("mesh", self.stream, "-o", str(first), "--checkpoint-every", "60", *options)
+        retired = [row for row in self.rows(first) if row["kind"] == "retire_keyframes"]
+        self.assertGreater(len(retired), 0)
+        resumed = self.tmp / "resumed"
+        shutil.copytree(first, resumed)
+        for path in [resumed / "tiles" / "plan.json", *resumed.glob("tiles/tile_*/tile.json"),
+                     resumed / "mesh.ply", resumed / "traversability.ply", resumed / "keyframes.csv"]:
+            path.unlink()
+        checkpoint = str(resumed / "checkpoint.tmckpt")
+        result = run("mesh", self.stream, "-o", str(resumed), "--resume", checkpoint, *options, check=False)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertRegex((resumed / "summary.txt").read_text(), r"resumed: from .* at event 1[0-9][0-9]\n")
+        def written(folder):  # what `mesh` wrote into tiles/ (not what `tiles merge` added)
+            return sorted(str(p.relative_to(folder)) for p in (folder / "tiles").glob("tile_*/**/*") if p.is_file())
+        reference = written(self.frozen)
+        self.assertEqual(written(resumed), reference)
+        names = reference + ["tiles/plan.json", "mesh.ply", "traversability.ply"]
+        match, mismatch, errors = filecmp.cmpfiles(self.frozen, resumed, names, shallow=False)
+        self.assertEqual((mismatch, errors), ([], []))
+        # Another freeze radius cannot resume it.
+        result = run("mesh", self.stream, "-o", str(resumed), "--resume", checkpoint, "--robot", ROBOT,
+                     "--freeze-radius-m", "90", "--freeze-tile-m", "40", check=False)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("run state.freeze_settings", result.stderr)
+
     def test_freeze_refuses_what_it_cannot_do(self):
         result = run("mesh", self.stream, "-o", str(self.tmp / "bad"), "--freeze-radius-m", "80", check=False)
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("--freeze-radius-m needs --robot", result.stderr)
-        result = run("mesh", self.stream, "--robot", ROBOT, "-o", str(self.tmp / "bad"), "--freeze-radius-m", "80",
-                     "--checkpoint-every", "5", check=False)
-        self.assertEqual(result.returncode, 2, result.stderr)
-        self.assertIn("cannot be combined", result.stderr)
         result = run("mesh", self.stream, "--robot", ROBOT, "-o", str(self.tmp / "bad"), "--freeze-radius-m", "-3",
                      check=False)
         self.assertEqual(result.returncode, 2, result.stderr)

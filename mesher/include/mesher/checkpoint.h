@@ -13,8 +13,9 @@ namespace terramesh::mesher {
 /// 3: adds the ball pass's memory of refused balls at the end of the payload; 4: adds
 /// MesherConfig::handle_min_rays to the configuration; 5: adds each point record's PointKind (SLAM
 /// point or driven-ground sample); 8: adds MesherConfig::driven_cells_first to the configuration's
-/// technique switches.
-inline constexpr std::uint32_t kCheckpointFormatVersion = 8;
+/// technique switches; 9: adds the Steiner grid's sparse flag and, when set, the lattice nodes it holds
+/// (Mesher::releaseFarSteiner).
+inline constexpr std::uint32_t kCheckpointFormatVersion = 9;
 
 /// Writes the whole state of `mesher` to `out` (binary, little-endian; see docs/formats.md):
 /// a header with the magic "TMCKPT01", the format version, the payload's size and its FNV-1a

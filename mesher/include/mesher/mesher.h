@@ -141,8 +141,8 @@ class Mesher {
   /// only leaves the triangulation (but for a node on the hull whose neighbours lie in one plane);
   /// the surface and every ray are unchanged. From the first call
   /// on, the lattice grows only around new data (not as a whole box), and comes back where data
-  /// comes back. Not in the baselines' fixed grid (then a no-op). A mesher that released nodes is
-  /// not checkpointed (saveCheckpoint throws std::logic_error). O(Steiner vertices).
+  /// comes back. Not in the baselines' fixed grid (then a no-op). A checkpoint keeps the lattice
+  /// nodes held (saveCheckpoint). O(Steiner vertices).
   /// @throw std::invalid_argument if `reach_m` is not finite and >= 0.
   UpdateStats releaseFarSteiner(const std::vector<Eigen::Vector3d>& keep_W, double reach_m);
 
