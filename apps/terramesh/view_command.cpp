@@ -103,7 +103,8 @@ int runView(const std::vector<std::string>& args) {
   bool open = false;
   app.add_option("OUTDIR", run_dir,
                  "a run folder of `terramesh mesh` (mesh.ply; traversability.ply, snapshots/, path*.csv, "
-                 "voxels.bin or *.bt when present)")
+                 "voxels.bin or *.bt when present), or a tiled map's folder (tiles.json of terramesh tiles merge: "
+                 "the tiles around the view are loaded as it moves)")
       ->required();
   app.add_option("--port", port, "TCP port on 127.0.0.1 (0: any free port)")->check(CLI::Range(0, 65535));
   app.add_option("--stream", stream_file,
@@ -118,8 +119,9 @@ int runView(const std::vector<std::string>& args) {
   config.run_dir = run_dir;
   config.port = port;
   if (!fs::is_directory(config.run_dir)) throw InputError(config.run_dir.string(), "OUTDIR", "not a directory (expected a run folder of terramesh mesh)");
-  if (!fs::is_regular_file(config.run_dir / "mesh.ply")) {
-    throw InputError((config.run_dir / "mesh.ply").string(), "file", "missing (expected the run's mesh: terramesh mesh STREAM -o OUTDIR)");
+  if (!fs::is_regular_file(config.run_dir / "mesh.ply") && !fs::is_regular_file(config.run_dir / "tiles.json")) {
+    throw InputError((config.run_dir / "mesh.ply").string(), "file",
+                     "missing (expected the run's mesh: terramesh mesh STREAM -o OUTDIR; or a tiled map's tiles.json)");
   }
   config.bundle_dir = findBundle(bundle);
   if (config.bundle_dir.empty()) {

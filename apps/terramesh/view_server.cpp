@@ -121,6 +121,7 @@ std::string runManifestJson(const fs::path& run_dir, const RunExtras& extras) {
   optional("trajectory", "trajectory.csv");
   optional("points", "points.ply");
   optional("voxels", "voxels.bin");
+  optional("tile_index", "tiles.json");  // a tiled map's folder (docs/tiles.md)
   if (manifest["trajectory"].is_null() && !extras.trajectory_csv.empty()) manifest["trajectory"] = "api/trajectory.csv";
   if (manifest["points"].is_null() && !extras.points_ply.empty()) manifest["points"] = "api/points.ply";
   if (manifest["voxels"].is_null() && !extras.voxels_bin.empty()) manifest["voxels"] = "api/voxels.bin";

@@ -81,6 +81,23 @@ export async function openViewer(context, url, timeoutMs = 120000) {
   return { page, errors };
 }
 
+/**
+ * `terramesh view DIR` with a fresh browser on its page: resolves {server, browser, viewer}
+ * (viewer: openViewer's {page, errors}).
+ */
+export async function startSession(binary, dir, serverArgs = []) {
+  const server = await startServer(binary, dir, serverArgs);
+  const browser = await launchBrowser();
+  return { server, browser, viewer: await openViewer(browser.context, server.url) };
+}
+
+/** Ends what startSession started (whatever of it started) and removes the folder `work`. */
+export async function endSession(session, work) {
+  if (session.browser) await session.browser.close();
+  stopServer(session.server);
+  if (work) rmSync(work, { recursive: true, force: true });
+}
+
 /** Waits for two animation frames (the on-demand render and its compositing). */
 export async function settle(page) {
   await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));

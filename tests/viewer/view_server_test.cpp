@@ -79,6 +79,15 @@ TEST(RunManifest, ListsWhatTheRunHolds) {
   EXPECT_EQ(manifest["layers"][0]["name"], "cost");
   EXPECT_EQ(manifest["layers"][0]["range"], nlohmann::json({0.0, 1.0}));
   EXPECT_FALSE(manifest["layers"][1].contains("range")) << "slope_deg takes the data's range";
+  EXPECT_TRUE(manifest["tile_index"].is_null());
+}
+
+TEST(RunManifest, ATiledMapsFolderNamesItsIndex) {
+  terramesh::test::TempDir dir;
+  writeText(dir / "tiles.json", "{}");
+  const auto manifest = nlohmann::json::parse(runManifestJson(dir.path(), RunExtras{}));
+  EXPECT_EQ(manifest["tile_index"], "run/tiles.json");
+  EXPECT_TRUE(manifest["mesh"].is_null());
 }
 
 TEST(OctomapVoxels, OccupiedLeavesWithCentresAndSizes) {

@@ -3,13 +3,13 @@
 // TERRAMESH_VIEWER_TEST_MODULES set.
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync, writeFileSync, symlinkSync } from 'node:fs';
+import { mkdtempSync, readFileSync, writeFileSync, symlinkSync } from 'node:fs';
 import { request } from 'node:http';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { after, before, test } from 'node:test';
-import { launchBrowser, openViewer, settle, startServer, stopServer } from './harness.mjs';
+import { endSession, settle, startSession } from './harness.mjs';
 import { countColour, decodePng, fractionChanged, fractionNot } from './png.mjs';
 
 const BIN = process.env.TERRAMESH_BIN;
@@ -24,6 +24,7 @@ const HATCH_RGB = [225, 225, 225];  // viewer/src/colormaps.js UNKNOWN_HATCH_RGB
 const SCENARIO = process.env.TERRAMESH_VIEWER_SCENARIO || 'offroad';
 
 let work, run, server, browser, viewer, meshText, expected;
+let session = {};
 
 /** Raw GET (no URL normalisation, unlike fetch): resolves {status, body}. */
 function rawGet(host, port, path) {
@@ -112,16 +113,11 @@ before(async () => {
   writeFileSync(join(work, 'secret.txt'), 'TOP-SECRET-OUTSIDE-OUTDIR\n');
   symlinkSync(join(work, 'secret.txt'), join(run, 'link_outside.txt'));
   meshText = readFileSync(join(run, 'mesh.ply')).toString('latin1', 0, 60);
-  server = await startServer(BIN, run, expected.serverArgs);
-  browser = await launchBrowser();
-  viewer = await openViewer(browser.context, server.url);
+  session = await startSession(BIN, run, expected.serverArgs);
+  ({ server, browser, viewer } = session);
 });
 
-after(async () => {
-  if (browser) await browser.close();
-  stopServer(server);
-  if (work) rmSync(work, { recursive: true, force: true });
-});
+after(() => endSession(session, work));
 
 test(`the page loads the ${SCENARIO} run with its layers, snapshots, trajectory, points, path and voxels`, async () => {
   const info = await viewer.page.evaluate(() => window.terramesh.info);

@@ -1,5 +1,6 @@
 // terramesh view: the page. Loads the run's manifest, then the final map (traversability.ply if
-// present, else mesh.ply), the overlays and the timing chart; the slider replays the snapshots.
+// present, else mesh.ply), the overlays and the timing chart; the slider replays the snapshots. A
+// tiled map's folder goes to tiles.js.
 import './style.css';
 import GUI from 'lil-gui';
 import { colourFaces, layerLabel, layerNames, setLayerRegistry } from './layers.js';
@@ -7,6 +8,7 @@ import { renderLegend } from './legend.js';
 import { SlamPoints, Trajectory, pathObject, voxelObject } from './overlays.js';
 import { RunLoader } from './run_loader.js';
 import { MapScene } from './scene.js';
+import { runTiled } from './tiles.js';
 import { TimingChart, keyframeTimings } from './timing_chart.js';
 
 const $ = (id) => document.getElementById(id);
@@ -36,6 +38,8 @@ async function main() {
   setLayerRegistry(manifest.layers);
   $('run-name').textContent = `terramesh view: ${manifest.run}`;
   document.title = `terramesh view: ${manifest.run}`;
+  // A tiled map (tiles.json, no single mesh): its tiles are paged in around the view.
+  if (manifest.tile_index && !manifest.mesh) return runTiled(loader, manifest, $, status);
   const finalUrl = manifest.traversability || manifest.mesh;
   status(`loading ${finalUrl}…`);
   const finalMesh = await loader.ply(finalUrl, 'mesh');

@@ -53,6 +53,7 @@ export class MapScene {
     // keeps large maps interactive in software rendering.
     this.material = mapMaterial();
     this.mesh = null;
+    this.tiles = new Map();  // a tiled map's meshes by tile name (addTile)
     this.frames = 0;
     this.pending = false;
     new ResizeObserver(() => this.resize()).observe(canvas);
@@ -84,20 +85,33 @@ export class MapScene {
     ++this.frames;
   }
 
-  /** Sets the world's up vector (map_frame.yaml) and places the camera to see `radius` around 0. */
-  frame(up, radius) {
+  /**
+   * Sets the world's up vector (map_frame.yaml) and places the camera to see `radius` around
+   * `centre` (scene coordinates, default the origin).
+   */
+  frame(up, radius, centre = [0, 0, 0]) {
     const u = new THREE.Vector3(...up).normalize();
     this.camera.up.copy(u);
     const side = Math.abs(u.x) < 0.9 ? new THREE.Vector3(1, 0, 0) : new THREE.Vector3(0, 1, 0);
     side.sub(u.clone().multiplyScalar(side.dot(u))).normalize();
     const r = Math.max(radius, 1e-3);
-    this.camera.position.copy(u.clone().multiplyScalar(1.5 * r).add(side.multiplyScalar(-1.1 * r)));
+    const c = new THREE.Vector3(...centre);
+    this.camera.position.copy(u.clone().multiplyScalar(1.5 * r).add(side.multiplyScalar(-1.1 * r)).add(c));
     this.camera.near = r / 1000;
     this.camera.far = r * 50;
     this.camera.updateProjectionMatrix();
-    this.controls.target.set(0, 0, 0);
+    this.controls.target.copy(c);
     this.controls.update();
     this.sun.position.copy(u.clone().multiplyScalar(2 * r).add(new THREE.Vector3(r, 0.5 * r, 0)));
+    this.requestRender();
+  }
+
+  /** Moves the camera and its target together so that the target is at `point` (scene coordinates). */
+  moveTargetTo(point) {
+    const delta = new THREE.Vector3(...point).sub(this.controls.target);
+    this.camera.position.add(delta);
+    this.controls.target.add(delta);
+    this.controls.update();
     this.requestRender();
   }
 
@@ -107,6 +121,33 @@ export class MapScene {
       this.scene.remove(this.mesh);
       this.mesh.geometry.dispose();
     }
+    const { mesh, buffers } = this.buildMesh(data);
+    this.mesh = mesh;
+    this.scene.add(mesh);
+    this.requestRender();
+    return buffers;
+  }
+
+  /** Adds (or replaces) tile `name` of a tiled map; returns its colour and hatch buffers to fill. */
+  addTile(name, data) {
+    this.removeTile(name);
+    const { mesh, buffers } = this.buildMesh(data);
+    this.tiles.set(name, mesh);
+    this.scene.add(mesh);
+    this.requestRender();
+    return buffers;
+  }
+
+  removeTile(name) {
+    const mesh = this.tiles.get(name);
+    if (!mesh) return;
+    this.scene.remove(mesh);
+    mesh.geometry.dispose();
+    this.tiles.delete(name);
+    this.requestRender();
+  }
+
+  buildMesh(data) {
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(data.positions, 3));
     const colours = new Uint8Array(data.positions.length);
@@ -114,25 +155,27 @@ export class MapScene {
     const hatch = new Uint8Array(data.positions.length / 3);
     geometry.setAttribute('hatch', new THREE.BufferAttribute(hatch, 1, true));
     geometry.computeBoundingSphere();
-    this.mesh = new THREE.Mesh(geometry, this.material);
-    this.mesh.userData = data;
-    this.scene.add(this.mesh);
-    this.requestRender();
-    return { colours, hatch };
+    const mesh = new THREE.Mesh(geometry, this.material);
+    mesh.userData = data;
+    return { mesh, buffers: { colours, hatch } };
   }
 
-  coloursChanged() {
-    if (!this.mesh) return;
-    this.mesh.geometry.attributes.color.needsUpdate = true;
-    this.mesh.geometry.attributes.hatch.needsUpdate = true;
+  /** The colours of the map mesh (or of tile `name`) were filled in. */
+  coloursChanged(name) {
+    const mesh = name === undefined ? this.mesh : this.tiles.get(name);
+    if (!mesh) return;
+    mesh.geometry.attributes.color.needsUpdate = true;
+    mesh.geometry.attributes.hatch.needsUpdate = true;
     this.requestRender();
   }
 
-  /** Measured faces come first: hiding Steiner faces draws only them. */
+  /** Measured faces come first: hiding Steiner faces draws only them (every mesh shown). */
   showSteiner(show) {
-    if (!this.mesh) return;
-    const data = this.mesh.userData;
-    this.mesh.geometry.setDrawRange(0, 3 * (show ? data.faces : data.measured));
+    for (const mesh of [this.mesh, ...this.tiles.values()]) {
+      if (!mesh) continue;
+      const data = mesh.userData;
+      mesh.geometry.setDrawRange(0, 3 * (show ? data.faces : data.measured));
+    }
     this.requestRender();
   }
 
