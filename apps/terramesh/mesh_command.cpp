@@ -199,6 +199,8 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   if (tile_) tile_->selectInput(stream_, input_);
   if (o.resume_path) resumed_ = readMeshCheckpoint(*o.resume_path, stream_);
   config_ = resumed_ ? resumed_->mesher.config() : mesherConfigFrom(o.mesher, mode, stream_);
+  // The tiles of a plan share one lattice where they overlap, so that they mesh it alike.
+  if (tile_) config_.steiner_global_phase = true;
   if (!resumed_) inferred_ = describeInferredSettings(o.mesher, stream_, config_);
   traversability_ = TraversabilitySession::fromOptions(o.traversability, stream_, config_.metres_per_unit, output_);
   if (tile_) tile_->attach(*traversability_, exportConfigFrom(o.traversability.exports), config_.metres_per_unit);

@@ -26,6 +26,7 @@ void writeConfig(const MesherConfig& c, ByteWriter& out) {
   out.pod(c.camera_enclosing_radius_cells);
   out.pod(c.steiner_margin_cells);
   for (int i = 0; i < 3; ++i) out.f64(c.steiner_origin_offset_m[i]);
+  out.u8(c.steiner_global_phase ? 1 : 0);
   out.f64(c.steiner_clearance_steps);
   out.f64(c.weight_crossed);
   out.f64(c.weight_neighbour);
@@ -64,6 +65,7 @@ MesherConfig readConfig(ByteReader& in) {
   c.camera_enclosing_radius_cells = in.pod<int>();
   c.steiner_margin_cells = in.pod<int>();
   for (int i = 0; i < 3; ++i) c.steiner_origin_offset_m[i] = in.f64();
+  c.steiner_global_phase = in.flag();
   c.steiner_clearance_steps = in.f64();
   c.weight_crossed = in.f64();
   c.weight_neighbour = in.f64();

@@ -24,7 +24,7 @@ struct MapState {
   explicit MapState(const MesherConfig& cfg)
       : config(cfg),
         epochs(tri),
-        grid(cfg.steinerStepUnits(), cfg.steiner_origin_offset_m / cfg.metres_per_unit),
+        grid(cfg.steinerStepUnits(), cfg.steiner_origin_offset_m / cfg.metres_per_unit, cfg.steiner_global_phase),
         hash(cfg.boundary_hash),
         outside(tri, grid, hash, epochs),
         weights(cfg.weight_crossed, cfg.weight_neighbour, cfg.weight_second_neighbour,

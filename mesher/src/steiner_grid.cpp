@@ -13,8 +13,8 @@ constexpr double kOffsetZ = 0.5 + 0.0314159;
 
 }  // namespace
 
-SteinerGrid::SteinerGrid(double step, const Eigen::Vector3d& origin_shift)
-    : step_(step), origin_shift_(origin_shift) {}
+SteinerGrid::SteinerGrid(double step, const Eigen::Vector3d& origin_shift, bool global_phase)
+    : step_(step), origin_shift_(origin_shift), global_phase_(global_phase) {}
 
 GridKey SteinerGrid::cellOf(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d scaled = (p - origin_) / step_;
@@ -47,7 +47,8 @@ std::vector<Eigen::Vector3d> SteinerGrid::coverPoint(const Eigen::Vector3d& p, i
 std::vector<Eigen::Vector3d> SteinerGrid::coverBox(const Eigen::Vector3d& min,
                                                    const Eigen::Vector3d& max, int margin) {
   if (!initialized_) {
-    origin_ = min - step_ * Eigen::Vector3d(kOffsetX, kOffsetY, kOffsetZ) + origin_shift_;
+    const Eigen::Vector3d start = global_phase_ ? Eigen::Vector3d(step_ * (min / step_).array().floor().matrix()) : min;
+    origin_ = start - step_ * Eigen::Vector3d(kOffsetX, kOffsetY, kOffsetZ) + origin_shift_;
   }
   const GridKey a = cellOf(min);
   const GridKey b = cellOf(max);

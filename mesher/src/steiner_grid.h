@@ -20,7 +20,11 @@ class SteinerGrid {
  public:
   /// `origin_shift`: added to the origin the first cover call chooses (map units; the
   /// experiment option MesherConfig::steiner_origin_offset_m).
-  explicit SteinerGrid(double step, const Eigen::Vector3d& origin_shift = Eigen::Vector3d::Zero());
+  /// `global_phase`: the first cover call puts the origin on the lattice of multiples of the step
+  /// (plus the offsets and the shift) next to its data, so that every grid of that step and shift
+  /// has the same nodes (MesherConfig::steiner_global_phase).
+  explicit SteinerGrid(double step, const Eigen::Vector3d& origin_shift = Eigen::Vector3d::Zero(),
+                       bool global_phase = false);
 
   double step() const { return step_; }
   bool empty() const { return !initialized_; }
@@ -64,6 +68,7 @@ class SteinerGrid {
 
   double step_;
   Eigen::Vector3d origin_shift_;
+  bool global_phase_ = false;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   bool initialized_ = false;
   GridKey lo_;

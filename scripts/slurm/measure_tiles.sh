@@ -101,7 +101,7 @@ for n in "${tasks[@]}"; do
   echo "| Slurm, $n at once: until \`submit_tiles.sh --wait\` returned | $(cat "$work/slurm$n.seconds") | |"
 done
 echo
-for n in "${tasks[@]}"; do
+for n in "${tasks[@]:1}"; do
   echo "- Slurm's times, ${tasks[0]} at once over $n at once: $(ratio "$first" "$(cat "$work/slurm$n.jobs")")"
 done
 echo "- merged files byte-identical across runs: $identical"

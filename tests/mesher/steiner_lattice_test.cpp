@@ -117,6 +117,41 @@ TEST(SteinerLattice, TheOffsetMovesTheLatticeByExactlyThatMuch) {
   EXPECT_GT((cells - cells.array().round().matrix()).cwiseAbs().maxCoeff(), 0.1);
 }
 
+/// Largest distance, in cells, of a node of `b` from the lattice of `a` (step 4 m).
+double offLattice(const Vertices& a, const Vertices& b) {
+  double worst = 0;
+  for (const Eigen::Vector3d& s : b.steiner) {
+    const Eigen::Vector3d cells = (s - a.steiner.front()) / 4.0;
+    worst = std::max(worst, (cells - cells.array().round().matrix()).cwiseAbs().maxCoeff());
+  }
+  return worst;
+}
+
+TEST(SteinerLattice, AGlobalPhaseGivesRunsOfDifferentDataOneLattice) {
+  // Two runs that start on different keyframes (as two tiles of a plan do): with the global
+  // phase every node of one lies on the other's lattice; without it the lattices differ.
+  const auto scene = test::planeScene(test::SceneOptions());
+  ASSERT_GE(scene.keyframes.size(), 6u);
+  const std::vector<Keyframe> first(scene.keyframes.begin(), scene.keyframes.begin() + 3);
+  const std::vector<Keyframe> later(scene.keyframes.begin() + 3, scene.keyframes.end());
+  MesherConfig global = proposed(0.0);
+  global.steiner_global_phase = true;
+  Mesher a(global), b(global), c(proposed(0.0)), d(proposed(0.0));
+  runAll(a, first, false);
+  runAll(b, later, true);
+  runAll(c, first, false);
+  runAll(d, later, false);
+  const Vertices va = verticesOf(a, first), vb = verticesOf(b, later);
+  ASSERT_FALSE(va.steiner.empty());
+  ASSERT_FALSE(vb.steiner.empty());
+  EXPECT_LT(offLattice(va, vb), 1e-9);
+  EXPECT_GT(offLattice(verticesOf(c, first), verticesOf(d, later)), 0.01);
+  // The checkpoint keeps the setting.
+  std::stringstream bytes;
+  saveCheckpoint(b, bytes);
+  EXPECT_TRUE(loadCheckpoint(bytes, "memory").mesher.config().steiner_global_phase);
+}
+
 TEST(SteinerLattice, CheckpointKeepsOffsetAndClearance) {
   const auto scene = test::planeScene(test::SceneOptions());
   MesherConfig config = proposed(0.3);

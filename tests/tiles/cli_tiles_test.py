@@ -26,11 +26,12 @@ CHECKER = os.path.join(SHARED, "tools", "check_mesh.py")
 STREET = ["street", "--length-m", "140", "--seed", "1", "--outlier-fraction", "0"]
 TILING = ["--tile-m", "65", "--overlap-m", "10"]
 TILES = 4
-# Measured on this street (docs/tiles.md, "Borders"): the target of 99 % is not reached; this floor
-# catches tiles that do not line up (another frame, no overlap, a wrong input rule).
-MIN_BORDER_AGREEMENT = 0.70
-# Whether a cell is free (the drivable decision) agrees far better; measured 0.986 to 0.996 here.
-MIN_FREE_AGREEMENT = 0.98
+# Measured on this street (docs/tiles.md, "Borders"): 0.950 to 0.983 with the tiles sharing one
+# Steiner lattice (0.76 to 0.97 without); the target of 99 % is not reached. This floor catches
+# tiles that do not line up (another frame or lattice, no overlap, a wrong input rule).
+MIN_BORDER_AGREEMENT = 0.93
+# Whether a cell is free (the drivable decision) agrees better still; measured 0.997 to 1.000 here.
+MIN_FREE_AGREEMENT = 0.99
 
 
 def run(*args, check=True):

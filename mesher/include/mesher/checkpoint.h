@@ -14,8 +14,9 @@ namespace terramesh::mesher {
 /// MesherConfig::handle_min_rays to the configuration; 5: adds each point record's PointKind (SLAM
 /// point or driven-ground sample); 8: adds MesherConfig::driven_cells_first to the configuration's
 /// technique switches; 9: adds the Steiner grid's sparse flag and, when set, the lattice nodes it holds
-/// (Mesher::releaseFarSteiner).
-inline constexpr std::uint32_t kCheckpointFormatVersion = 9;
+/// (Mesher::releaseFarSteiner); 10: adds MesherConfig::steiner_global_phase after
+/// steiner_origin_offset_m.
+inline constexpr std::uint32_t kCheckpointFormatVersion = 10;
 
 /// Writes the whole state of `mesher` to `out` (binary, little-endian; see docs/formats.md):
 /// a header with the magic "TMCKPT01", the format version, the payload's size and its FNV-1a

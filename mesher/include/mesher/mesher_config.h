@@ -69,6 +69,12 @@ struct MesherConfig {
   /// from where the mesher places it (from the first update's data, or the fixed grid's box). For
   /// measuring how the lattice's placement changes the surface (docs/accuracy.md).
   Eigen::Vector3d steiner_origin_offset_m = Eigen::Vector3d::Zero();
+  /// Places the Steiner lattice on a phase fixed in the map frame (nodes at multiples of the step
+  /// plus the lattice's own fractional offsets and steiner_origin_offset_m) rather than on one set
+  /// by the first update's data. Runs given different parts of one stream (the tiles of a plan,
+  /// `terramesh mesh --tile`) then share their lattice where they overlap, and mesh it alike.
+  /// Off by default: a single run places its lattice as it always has.
+  bool steiner_global_phase = false;
   /// Lattice nodes closer than this many grid steps to an inserted point are left out of the
   /// triangulation (restored when no point is that close any more), so that the cells around the
   /// data are the points' own and do not depend on where the lattice lies. In [0, 0.5); 0 keeps
