@@ -153,6 +153,7 @@ std::string MeshFreeze::state() const {
 }
 
 void MeshFreeze::restore(const std::string& line, const std::string& file) {
+  constexpr std::size_t kMaxListed = 10000;
   std::istringstream in(line);
   std::string tag;
   std::size_t count = 0;
@@ -164,10 +165,14 @@ void MeshFreeze::restore(const std::string& line, const std::string& file) {
   for (std::size_t r = 0; r < count; ++r) {
     std::size_t tile = 0, levels = 0, files = 0;
     tiling::TileRecord record;
-    if (!(in >> tile >> record.revision >> record.faces >> levels)) fail("a truncated tile record");
+    // A tile has a few levels and a dozen files: larger counts are a damaged line, not a
+    // reason to allocate.
+    if (!(in >> tile >> record.revision >> record.faces >> levels) || levels > kMaxListed) {
+      fail("a truncated or damaged tile record");
+    }
     record.level_heights_m.resize(levels);
     for (double& height : record.level_heights_m) in >> height;
-    if (!(in >> files)) fail("a truncated tile record");
+    if (!(in >> files) || files > kMaxListed) fail("a truncated or damaged tile record");
     record.files.resize(files);
     for (std::string& name : record.files) in >> name;
     if (!in || tile >= freeze_.tiles().size() || !freeze_.frozen(tile)) {
