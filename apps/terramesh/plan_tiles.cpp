@@ -38,7 +38,8 @@ TiledPlan planOnTiles(const std::filesystem::path& index_path, const Eigen::Vect
   const tiling::PlanRect around{std::min(a.x(), b.x()), std::min(a.y(), b.y()),
                                 std::max(a.x(), b.x()), std::max(a.y(), b.y())};
   TiledPlan tiled;
-  tiled.tiles_with_faces = tiling::tilesMeeting(index, index.extentOfFaces()).size();
+  tiled.tiles_with_faces = static_cast<std::size_t>(std::count_if(
+      index.tiles.begin(), index.tiles.end(), [](const tiling::IndexedTile& t) { return t.faces > 0; }));
   std::vector<std::size_t> loaded;
   for (double margin = first_margin;; margin *= 2) {
     std::vector<std::size_t> tiles = tiling::tilesMeeting(index, around.grown(margin));

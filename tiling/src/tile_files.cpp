@@ -8,6 +8,7 @@
 
 #include "common/input_error.h"
 #include "common/json_fields.h"
+#include "tile_reading.h"
 
 namespace terramesh::tiling {
 namespace {
@@ -18,15 +19,6 @@ constexpr const char* kRecordName = "tile.json";
 
 nlohmann::json rectJson(const PlanRect& rect) {
   return {{"min_x", rect.min_x_m}, {"min_y", rect.min_y_m}, {"max_x", rect.max_x_m}, {"max_y", rect.max_y_m}};
-}
-
-PlanRect readRect(const json::FieldReader& json, const nlohmann::json& object, const std::string& path) {
-  const nlohmann::json& rect = json.member(object, "bounds_m", path);
-  const std::string where = json::FieldReader::join(path, "bounds_m");
-  PlanRect result{json.number(rect, "min_x", where), json.number(rect, "min_y", where), json.number(rect, "max_x", where),
-                  json.number(rect, "max_y", where)};
-  if (result.empty()) json.fail(where, "expected min_x < max_x and min_y < max_y");
-  return result;
 }
 
 TileSpec readTile(const json::FieldReader& json, const nlohmann::json& item, std::size_t i) {
@@ -42,7 +34,7 @@ TileSpec readTile(const json::FieldReader& json, const nlohmann::json& item, std
   if (!digits) json.fail(json::FieldReader::join(path, "name"), "expected \"tile_\" and three or more digits");
   tile.column = json.integer(item, "column", path);
   tile.row = json.integer(item, "row", path);
-  tile.bounds = readRect(json, item, path);
+  tile.bounds = internal::readBounds(json, item, path);
   tile.keyframes = json.count(item, "keyframes", path);
   tile.points = json.count(item, "points", path);
   return tile;
@@ -82,10 +74,7 @@ TilePlan readTilePlan(const std::filesystem::path& path) {
   } catch (const std::invalid_argument& error) {
     json.fail("tile_m, overlap_m", error.what());
   }
-  const nlohmann::json& up = json.array(root, "up", "");
-  if (up.size() != 3 || !up[0].is_number() || !up[1].is_number() || !up[2].is_number()) json.fail("up", "expected [x, y, z]");
-  plan.up_W = Eigen::Vector3d(up[0].get<double>(), up[1].get<double>(), up[2].get<double>());
-  if (!plan.up_W.allFinite() || plan.up_W.norm() < 1e-12) json.fail("up", "expected a finite non-zero vector");
+  plan.up_W = internal::readDirection(json, root, "up", "");
   plan.metres_per_unit = json.number(root, "metres_per_unit", "");
   if (!(plan.metres_per_unit > 0) || !std::isfinite(plan.metres_per_unit)) json.fail("metres_per_unit", "expected > 0");
   const nlohmann::json& stream = json.member(root, "stream", "");

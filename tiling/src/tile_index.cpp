@@ -6,14 +6,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <set>
 #include <stdexcept>
 #include <unordered_map>
 
 #include "common/input_error.h"
 #include "common/json_fields.h"
+#include "tile_reading.h"
 #include "tiling/tile_map.h"
 #include "traversability/map_directory.h"
 
@@ -23,29 +22,13 @@ namespace {
 constexpr const char* kIndexFormat = "terramesh tile index";
 constexpr const char* kLayeredPly = "traversability.ply";
 
-Eigen::Vector3d readVector(const json::FieldReader& json, const nlohmann::json& object,
-                           const std::string& key, const std::string& path) {
-  const nlohmann::json& v = json.array(object, key, path);
-  const std::string where = json::FieldReader::join(path, key);
-  if (v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
-    json.fail(where, "expected [x, y, z]");
-  const Eigen::Vector3d result(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
-  if (!result.allFinite() || result.norm() < 1e-12)
-    json.fail(where, "expected a finite non-zero vector");
-  return result;
-}
-
 IndexedTile readIndexedTile(const json::FieldReader& json, const nlohmann::json& item,
                             std::size_t i, const std::filesystem::path& folder) {
   const std::string path = json::FieldReader::at("tiles", i);
   IndexedTile tile;
   tile.index = json.count(item, "index", path);
   tile.name = json.string(item, "name", path);
-  const nlohmann::json& rect = json.member(item, "bounds_m", path);
-  const std::string where = json::FieldReader::join(path, "bounds_m");
-  tile.bounds = {json.number(rect, "min_x", where), json.number(rect, "min_y", where),
-                 json.number(rect, "max_x", where), json.number(rect, "max_y", where)};
-  if (tile.bounds.empty()) json.fail(where, "expected min_x < max_x and min_y < max_y");
+  tile.bounds = internal::readBounds(json, item, path);
   tile.faces = json.count(item, "faces", path);
   const nlohmann::json& files = json.array(item, "files", path);
   for (std::size_t k = 0; k < files.size(); ++k) {
@@ -56,12 +39,6 @@ IndexedTile readIndexedTile(const json::FieldReader& json, const nlohmann::json&
   if (tile.map_dir.empty())
     json.fail(json::FieldReader::join(path, "files"), std::string("expected a ") + kLayeredPly);
   return tile;
-}
-
-std::string fileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "file", "cannot be read");
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 /// Welds the vertices of `map` at bitwise-equal positions; returns how many positions two or more
@@ -173,9 +150,9 @@ TileIndex readTileIndex(const std::filesystem::path& path) {
   const double metres_per_unit = json.number(frame, "metres_per_unit", "frame");
   if (!(metres_per_unit > 0) || !std::isfinite(metres_per_unit))
     json.fail("frame.metres_per_unit", "expected > 0");
-  index.plane.x_W = readVector(json, frame, "plan_x", "frame");
-  index.plane.y_W = readVector(json, frame, "plan_y", "frame");
-  index.plane.z_W = readVector(json, frame, "up", "frame");
+  index.plane.x_W = internal::readDirection(json, frame, "plan_x", "frame");
+  index.plane.y_W = internal::readDirection(json, frame, "plan_y", "frame");
+  index.plane.z_W = internal::readDirection(json, frame, "up", "frame");
   index.plane.metres_per_unit = metres_per_unit;
   index.tile_m = json.number(root, "tile_m", "");
   if (!(index.tile_m > 0) || !std::isfinite(index.tile_m)) json.fail("tile_m", "expected > 0");
@@ -208,22 +185,13 @@ JoinedTiles joinTiles(const TileIndex& index, const std::vector<std::size_t>& ti
   JoinedTiles joined;
   joined.tiles = tiles;
   std::vector<std::size_t> tile_of_face;
-  std::string first_profile;
+  internal::OwnedMapReader reader;
   for (const std::size_t t : tiles) {
     if (t >= index.tiles.size())
       throw std::invalid_argument("joinTiles: tile " + std::to_string(t) + " out of range");
     const IndexedTile& tile = index.tiles[t];
-    traversability::MapDirectory part = traversability::readMapDirectory(tile.map_dir);
-    const std::filesystem::path robot = tile.map_dir / "robot.yaml";
-    const std::string profile = fileBytes(robot);
-    if (t == tiles.front()) {
-      first_profile = profile;
-      joined.profile = part.profile;
-    } else if (profile != first_profile) {
-      throw InputError(robot.string(), "profile",
-                       "differs from tile " + index.tiles[tiles.front()].name +
-                           "'s: every tile must be computed for the same robot");
-    }
+    traversability::MapDirectory part = reader.read(tile.map_dir, tile.name);
+    if (t == tiles.front()) joined.profile = part.profile;
     const bool same_frame =
         (part.map.up_W.normalized() - index.plane.z_W.normalized()).norm() < 1e-9 &&
         std::abs(part.map.metres_per_unit - index.plane.metres_per_unit) <=

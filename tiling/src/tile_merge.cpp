@@ -3,14 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <stdexcept>
 
-#include "common/input_error.h"
 #include "common/json_fields.h"
 #include "tiling/tile_files.h"
+#include "tile_reading.h"
 #include "traversability/map_directory.h"
 
 namespace terramesh::tiling {
@@ -18,15 +16,6 @@ namespace {
 
 constexpr const char* kIndexName = "tiles.json";
 constexpr const char* kOverviewName = "overview";
-constexpr const char* kRobotName = "robot.yaml";
-
-std::string fileText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "", "cannot open file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -57,20 +46,11 @@ traversability::ExportReport writeOverview(const std::filesystem::path& plan_pat
                                            const MergeConfig& config, nlohmann::json& tiles, MergeReport& report) {
   traversability::LayeredMesh joined;
   std::optional<traversability::RobotProfile> profile;
-  std::string robot_text;
+  internal::OwnedMapReader reader;
   for (const TileSpec& tile : plan.tiles) {
     const TileRecord record = readTileRecord(plan_path, tile);
-    const std::filesystem::path map_dir = tileMapDirectory(plan_path, tile);
-    const std::string text = fileText(map_dir / kRobotName);
-    if (profile && text != robot_text) {
-      throw InputError((map_dir / kRobotName).string(), "",
-                       "another robot profile than " + plan.tiles.front().name + "'s: mesh every tile with the same --robot");
-    }
-    traversability::MapDirectory owned = traversability::readMapDirectory(map_dir);
-    if (!profile) {
-      profile = owned.profile;
-      robot_text = text;
-    }
+    traversability::MapDirectory owned = reader.read(tileMapDirectory(plan_path, tile), tile.name);
+    if (!profile) profile = owned.profile;
     report.faces += owned.map.mesh.faces.size();
     appendMap(joined, owned.map);
     const std::string folder = tile.name + "/map/";
