@@ -10,7 +10,7 @@
 namespace terramesh::cli {
 
 std::optional<std::filesystem::path> tileIndexOf(const std::filesystem::path& map) {
-  if (std::filesystem::is_regular_file(map)) return map;
+  if (std::filesystem::is_regular_file(map) && map.extension() == ".json") return map;
   if (std::filesystem::is_directory(map) && !std::filesystem::exists(map / "traversability.ply") &&
       std::filesystem::is_regular_file(map / "tiles.json")) {
     return map / "tiles.json";

@@ -16,8 +16,9 @@
 
 namespace terramesh::cli {
 
-/// The tile index MAP names: MAP itself if it is a file, MAP/tiles.json if MAP is a folder holding
-/// one and no traversability.ply; nothing for a map directory.
+/// The tile index MAP names: MAP itself if it is a .json file, MAP/tiles.json if MAP is a folder
+/// holding one and no traversability.ply; nothing otherwise (a map directory, or a file that
+/// loading a map directory refuses, naming what it expects).
 std::optional<std::filesystem::path> tileIndexOf(const std::filesystem::path& map);
 
 /// Plans on the joined map of some tiles (the caller builds its graph and planner).

@@ -155,6 +155,15 @@ class PlanStreetTest(unittest.TestCase):
                   "-o", f"{out}_bad")
         self.assertEqual(bad.returncode, 2, bad.stderr)
 
+    def test_a_map_file_instead_of_its_directory_names_what_is_expected(self):
+        # The map's traversability.ply given as MAP: exit 2, naming the file and the directory wanted
+        # (a .json file is read as a tile index instead).
+        ply = f"{self.dir}/map/traversability.ply"
+        result = run(BIN, "plan", ply, "--start", "0", "0", "0", "--goal", "1", "0", "0", "-o", f"{self.dir}/file_map")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn(ply, result.stderr)
+        self.assertIn("expected the map's directory (traversability.ply, robot.yaml, map_frame.yaml)", result.stderr)
+
     def test_goal_in_unobserved_region_is_unreachable(self):
         result = run(BIN, "plan", f"{self.dir}/map", "--start", "0", "0", "0", "--goal", "30", "0", "40",
                      "-o", f"{self.dir}/unreachable")

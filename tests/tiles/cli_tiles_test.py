@@ -312,23 +312,30 @@ class FreezeTest(unittest.TestCase):
         paths = []
         for name, (a, b), extra in (("long", (3, len(ground) - 8), ()),
                                     ("short", (len(ground) // 4, len(ground) // 2), ("--tile-margin-m", "2"))):
-            tiled, values, path = self.plan_on(index.parent, ground[a], ground[b], "tiles_" + name, *extra)
-            self.assertEqual(tiled.returncode, 0, tiled.stderr)
             whole, whole_values, _ = self.plan_on(self.whole, ground[a], ground[b], "whole_" + name)
-            self.assertEqual(whole.returncode, 0, whole.stderr)
+            tiled, values, path = self.plan_on(index.parent, ground[a], ground[b], "tiles_" + name, *extra)
+            # The whole map's answer. Both are measured solved with this build; a build of another
+            # compiler meshes the street a little differently, and there the whole map leaves the
+            # long query unreachable: the tiles must then say so too, with every tile loaded.
+            self.assertIn(whole.returncode, (0, 3), whole.stderr)
+            self.assertEqual(tiled.returncode, whole.returncode, tiled.stderr)
+            if tiled.returncode == 3:
+                self.assertEqual(values["tiles_loaded"], values["tiles_with_faces"])
+                continue
             # The same path as on the map meshed whole (measured: equal lengths).
             self.assertAlmostEqual(float(values["length_m"]), float(whole_values["length_m"]),
                                    delta=0.01 * float(whole_values["length_m"]))
             self.assertGreater(int(values["border_edges"]), 0)
             self.assertGreaterEqual(int(values["tiles_loaded"]), 3)
+            if name == "short":  # only the tiles around the short query were loaded
+                self.assertLess(int(values["tiles_loaded"]), int(values["tiles_with_faces"]))
             paths.append(str(path))
-        # Only the tiles around the short query were loaded.
-        self.assertLess(int(values["tiles_loaded"]), int(values["tiles_with_faces"]))
-        # Both paths hold on the generator's truth (planner_demo's strict check).
+        self.assertGreater(len(paths), 0, "neither query has a path on the whole map")
+        # The paths hold on the generator's truth (planner_demo's strict check).
         tile_map = next(p.parent for p in sorted((self.frozen / "tiles").glob("tile_*/map/traversability.ply")))
         check = run("traverse-eval", str(tile_map), "--gt-mesh", str(self.tmp / "data" / "ground_truth.ply"),
                     "--path", *paths).stdout
-        self.assertIn("paths_valid 2", check, check)
+        self.assertIn(f"paths_valid {len(paths)}", check, check)
 
     def test_plan_on_a_bad_tile_index_names_the_field(self):
         index = json.loads((self.frozen / "tiles" / "tiles.json").read_text())

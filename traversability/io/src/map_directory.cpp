@@ -170,6 +170,10 @@ ExportReport writeMapDirectory(const std::filesystem::path& dir, const LayeredMe
 }
 
 MapDirectory readMapDirectory(const std::filesystem::path& dir) {
+  if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir)) {
+    throw InputError(dir.string(), "", std::string("a file: expected the map's directory (") + kPlyName + ", " +
+                                           kRobotName + ", " + kFrameName + "), written by terramesh");
+  }
   for (const char* name : {kPlyName, kRobotName, kFrameName}) {
     if (!std::filesystem::exists(dir / name)) {
       throw InputError((dir / name).string(), "", "missing: not a map directory written by terramesh");
