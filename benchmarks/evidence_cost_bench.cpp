@@ -40,6 +40,7 @@ struct Options {
   int rounds = 2;
   double street_length_m = 200.0;
   double station_spacing_m = traversability::TrajectoryEvidenceConfig{}.station_spacing_m;
+  int body_view_ends = 2;
 };
 
 /// What the CLI decides for the evidence: the sensor height from the profile, else from the data.
@@ -51,10 +52,11 @@ struct Setup {
   Eigen::Vector3d forward_S = Eigen::Vector3d::UnitZ();
 };
 
-Setup decide(const bench::BenchStream& s, const traversability::RobotProfile& profile, double station_spacing_m) {
+Setup decide(const bench::BenchStream& s, const traversability::RobotProfile& profile, const Options& options) {
   Setup setup;
   setup.profile = profile;
-  setup.evidence_config.station_spacing_m = station_spacing_m;
+  setup.evidence_config.station_spacing_m = options.station_spacing_m;
+  setup.evidence_config.body_views_from_both_ends = options.body_view_ends == 2;
   setup.evidence_config.validate();
   setup.frame.up_W = s.up_W;
   setup.frame.metres_per_unit = s.stream.metres_per_unit;
@@ -189,6 +191,11 @@ int main(int argc, char** argv) {
   app.add_option("--station-spacing-m", options.station_spacing_m, "as `terramesh mesh --station-spacing-m`")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
+  app.add_option("--body-view-ends", options.body_view_ends,
+                 "body views over both ends of each stretch (2, as `terramesh mesh`) or over the previous "
+                 "keyframe's base only (1)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 2));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -197,7 +204,7 @@ int main(int argc, char** argv) {
   try {
     const bench::BenchStream s =
         options.stream.empty() ? bench::builtinStreet(options.street_length_m) : bench::fileStream(options.stream);
-    const Setup setup = decide(s, traversability::loadRobotProfile(options.robot), options.station_spacing_m);
+    const Setup setup = decide(s, traversability::loadRobotProfile(options.robot), options);
     std::printf("stream %s, robot %s: %s\n", s.name.c_str(), setup.profile.name.c_str(),
                 setup.decision.summary.c_str());
     if (!setup.decision.enabled) {

@@ -17,7 +17,7 @@ namespace {
 // raw bytes in hex (their layout is this build's: a checkpoint is resumed by the build that wrote
 // it), the trajectory evidence settings (TrajectoryEvidenceRun::settings), the freeze's settings
 // and state (MeshFreeze), then the CSV after a "csv" line.
-constexpr const char* kStateTag = "terramesh-mesh-run 3";
+constexpr const char* kStateTag = "terramesh-mesh-run 4";
 static_assert(std::is_trivially_copyable_v<mesher::UpdateStats>);
 
 class Fnv {

@@ -295,6 +295,45 @@ TEST(EvidenceTest, OnDrivenGroundSlantedFacesCountBeyondTheStripTheBodySwept) {
   EXPECT_GT(changed, 0u) << "the strip's end changes some class (else the incremental check tests nothing)";
 }
 
+TEST(EvidenceTest, OnDrivenGroundTheStripEndsAlongTheDriveNotAtItsSides) {
+  // The driven faces need not reach the strip's sides (|y| <= 0.34, the robot's radius): here they
+  // cover |y| <= 0.1, the mesh's own faces the rest, as where a SLAM point on the road holds them.
+  // A measured face rising at 45 degrees from y = -0.3 passes through the body inside the strip
+  // (0.18-0.5 m up at y -0.12 to 0.2) and no higher than the clearance beyond it: the robot drove
+  // through it. Whether the strip is over driven ground is judged along the drive (abreast of the
+  // part's corners, on the centre line), so the face is contradicted and the strip stays free;
+  // where the drive ends (x > 2.5 here), the same face blocks (and within a footprint and the
+  // extension of that end, x > 1.5).
+  const RobotProfile profile = smallWheeled();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  mesher::TriangleMesh slanted;
+  slanted.vertices = {{-3, -0.3, 0.0}, {3, -0.3, 0.0}, {3, 0.9, 1.2}, {-3, 0.9, 1.2}};
+  slanted.faces = {{0, 1, 2}, {0, 2, 3}};
+  test::appendMesh(mesh, slanted);
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  driveAlongX(faces, floor_faces, 0.1);
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    if (centroid(mesh, f).x() > 2.5) faces[f].driven_vertices = 0;
+  }
+  const std::map<mesher::FaceKey, FaceLayers> layers = layersByKey(faces, profile, basesAlongX(mesh));
+  std::size_t on_drive = 0, past_end = 0;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (std::abs(c.y()) > 0.1) continue;
+    const FaceClass got = layers.at(faces[f].key).face_class;
+    if (std::abs(c.x()) < 1.5 && faces[f].driven_vertices == 3) {
+      ++on_drive;
+      EXPECT_EQ(got, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+    } else if (c.x() > 2.6 && c.x() < 2.9) {
+      ++past_end;
+      EXPECT_NE(got, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+    }
+  }
+  EXPECT_GT(on_drive, 100u);
+  EXPECT_GT(past_end, 5u);
+}
+
 TEST(EvidenceTest, AnUnobservedWallIsUncertainNotLethal) {
   // A 2 m wall over a floor: measured, it is lethal and so is the floor beside it; with no ray
   // through the space in front of its faces it is only a possible wall: uncertain, both.

@@ -199,7 +199,8 @@ TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDriv
   }
   std::sort(views.begin(), views.end());
   // (and the underside views of 3 and 2, which they would have with a level beneath)
-  EXPECT_EQ(views, (std::vector<std::uint64_t>{2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 3, 4, 4, 4}));
+  EXPECT_EQ(views, (std::vector<std::uint64_t>{2, 2, 2, 2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 4, 4, 4,
+                                               4, 4, 4}));
   for (std::uint64_t k : {2, 3, 4}) EXPECT_TRUE(evidence.bodyViewsOf(mesher::KeyframeId{k}).empty()) << k;
   EXPECT_EQ(evidence.bodyViewsOf(mesher::KeyframeId{5}).size(), kBodyViewSlots);
   EXPECT_EQ(evidence.sampleIdsOf(mesher::KeyframeId{3}).size(), 2 * 4 * patch)

@@ -234,26 +234,29 @@ TEST(DrivenSamplesTest, BodyViewsSeeTheKeyframesSamplesFromInsideTheBodyAtThePre
   ASSERT_EQ(views.size(), kBodyViewSlots);
   const std::vector<mesher::PointObservation> samples = evidence.samplesOf(second);
   ASSERT_EQ(samples.size(), 4 * evidence.samplesPerKeyframe());  // its patch and 3 stations
-  // At the body's top over the first keyframe's base: on the centre line and at both sides (the
-  // disc's radius across the path), each looking at the second's patch and stations.
-  std::vector<double> sides;
-  for (std::uint64_t slot = 0; slot < kBodyViewSlots; ++slot) {
-    const mesher::Keyframe& view = views[slot];
-    EXPECT_EQ(view.id, bodyViewId(mesher::KeyframeId{2}, slot));
-    EXPECT_NE(view.id.value & kBodyViewKeyframeBit, 0u);
-    EXPECT_NEAR(view.position_W_C.x(), 0.0, 1e-12);
-    EXPECT_NEAR(view.position_W_C.z(), 0.5, 1e-12);
-    sides.push_back(view.position_W_C.y());
-    ASSERT_EQ(view.observations.size(), samples.size());
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      EXPECT_EQ(view.observations[i].point, samples[i].point);
-      EXPECT_EQ(view.observations[i].position_W, samples[i].position_W);
+  // At the body's top over the first keyframe's base and over the second's: on the centre line
+  // and at both sides (the disc's radius across the path), each looking at the second's patch and
+  // stations.
+  for (const double end_x : {0.0, 2.0}) {
+    std::vector<double> sides;
+    for (std::uint64_t slot = 0; slot < kBodyViewSlots; ++slot) {
+      const mesher::Keyframe& view = views[slot];
+      EXPECT_EQ(view.id, bodyViewId(mesher::KeyframeId{2}, slot));
+      EXPECT_NE(view.id.value & kBodyViewKeyframeBit, 0u);
+      EXPECT_NEAR(view.position_W_C.z(), 0.5, 1e-12);
+      ASSERT_EQ(view.observations.size(), samples.size());
+      for (std::size_t i = 0; i < samples.size(); ++i) {
+        EXPECT_EQ(view.observations[i].point, samples[i].point);
+        EXPECT_EQ(view.observations[i].position_W, samples[i].position_W);
+      }
+      if (std::abs(view.position_W_C.x() - end_x) < 1e-12) sides.push_back(view.position_W_C.y());
     }
+    ASSERT_EQ(sides.size(), kBodyViewsPerEnd) << "end at x = " << end_x;
+    std::sort(sides.begin(), sides.end());
+    EXPECT_NEAR(sides[0], -0.3, 1e-12);
+    EXPECT_NEAR(sides[1], 0.0, 1e-12);
+    EXPECT_NEAR(sides[2], 0.3, 1e-12);
   }
-  std::sort(sides.begin(), sides.end());
-  EXPECT_NEAR(sides[0], -0.3, 1e-12);
-  EXPECT_NEAR(sides[1], 0.0, 1e-12);
-  EXPECT_NEAR(sides[2], 0.3, 1e-12);
   // Every ray stays inside the body volume swept from the first keyframe to the second.
   for (const mesher::PointObservation& sample : samples) {
     const Eigen::Vector3d& p = sample.position_W;

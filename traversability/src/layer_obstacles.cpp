@@ -181,15 +181,23 @@ void LayerComputer::addUnsweptParts(const SurfaceStore& store, const StoredFace&
   // Without the drive's centre line the strip is unknown: the drive contradicts the part whole.
   Obstacle inside;
   if (!pushBeyondStrip(f, o, inside) || inside.n == 0) return;
-  // Inside, the part not over driven ground (the strip ends where the drive began or stopped),
-  // judged at the corners of what lies within the footprints' reach (a box reach_m about the
-  // centroid): corners farther away could not change what a footprint meets.
+  // Inside, the part not over driven ground: the strip ends where the drive began or stopped.
+  // That is judged along the drive, at the centre line's points abreast of the corners of what
+  // lies within the footprints' reach (a box reach_m about the centroid): corners farther away
+  // could not change what a footprint meets. Not at the corners themselves: the driven faces need
+  // not reach the strip's sides, where a SLAM point on the road may hold the mesh's own faces.
   std::array<Eigen::Vector2d, 12> a, b;
   std::copy(inside.p.begin(), inside.p.begin() + inside.n, a.begin());
   int m = inside.n;
   for (const Eigen::Vector2d& axis : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}) {
     m = clipToHalfPlane(a.data(), m, axis, -reach_m, b.data());
     m = clipToHalfPlane(b.data(), m, -axis, -reach_m, a.data());
+  }
+  const Eigen::Vector2d n = f.driveNormal();
+  const double offset = f.driveOffsetM();
+  for (int i = 0; i < m; ++i) {
+    Eigen::Vector2d& corner = a[static_cast<std::size_t>(i)];
+    corner -= (n.dot(corner) - offset) * n;
   }
   if (m > 0 && !overDrivenGround(store, a.data(), m, f.centroid_L, z_lo, z_hi)) obstacles_.push_back(inside);
 }

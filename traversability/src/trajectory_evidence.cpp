@@ -546,18 +546,20 @@ std::vector<mesher::Keyframe> TrajectoryEvidence::bodyViewsOf(mesher::KeyframeId
   Pose previous = it->second;
   previous.position_W = it->second.previous_position_W;
   previous.rotation_W_C = it->second.previous_rotation_W_C;
-  const Eigen::Isometry3d T_W_B = baseAt(previous);
   const double height_m = std::min(body_high_m_, sensor_height_m_);
   const double side_m = disc_ ? radius_m_ : half_width_m_;
   const std::vector<mesher::PointObservation> samples = samplesAt(id, it->second);
-  // Slot 0 on the centre line, 1 on the left (+y), 2 on the right.
-  const double lateral_m[kBodyViewSlots] = {0.0, side_m, -side_m};
-  std::vector<mesher::Keyframe> views(kBodyViewSlots);
-  for (std::uint64_t slot = 0; slot < kBodyViewSlots; ++slot) {
+  // On the centre line, on the left (+y) and on the right; over each end's base.
+  const double lateral_m[kBodyViewsPerEnd] = {0.0, side_m, -side_m};
+  const Pose* ends[2] = {&previous, &it->second};
+  std::vector<mesher::Keyframe> views(config_.body_views_from_both_ends ? kBodyViewSlots : kBodyViewsPerEnd);
+  for (std::uint64_t slot = 0; slot < views.size(); ++slot) {
+    const Pose& end = *ends[slot / kBodyViewsPerEnd];
     mesher::Keyframe& view = views[slot];
     view.id = bodyViewId(id, slot);
-    view.position_W_C = T_W_B * (Eigen::Vector3d(0, lateral_m[slot], height_m) / metres_per_unit_);
-    view.rotation_W_C = previous.rotation_W_C;
+    const Eigen::Vector3d top_B(0, lateral_m[slot % kBodyViewsPerEnd], height_m);
+    view.position_W_C = baseAt(end) * (top_B / metres_per_unit_);
+    view.rotation_W_C = end.rotation_W_C;
     view.observations = samples;
   }
   return views;

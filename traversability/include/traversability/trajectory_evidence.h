@@ -42,11 +42,17 @@ inline bool isDrivenGroundId(mesher::PointId id) { return (id.value & kDrivenGro
 /// keyframe k has id kBodyViewKeyframeBit | slot << kBodyViewSlotShift | k. SLAM keyframe ids stay
 /// below the slot bits (they are at most kMaxDrivenKeyframeId).
 inline constexpr std::uint64_t kBodyViewKeyframeBit = std::uint64_t{1} << 63;
-inline constexpr int kBodyViewSlotShift = 61;
-/// Body views per keyframe: slot 0 on the body's centre line, slots 1 and 2 at its left and right
-/// sides (their rays reach the upper corners of the body's cross-section, which rays from the
-/// centre line leave out).
-inline constexpr std::uint64_t kBodyViewSlots = 3;
+inline constexpr int kBodyViewSlotShift = 60;
+static_assert(kMaxDrivenKeyframeId < (std::uint64_t{1} << kBodyViewSlotShift), "slots above keyframe ids");
+/// Body views per keyframe, at the body's top: slots 0-2 over the previous keyframe's base
+/// looking ahead, slots 3-5 over this keyframe's base looking back. Slots 0 and 3 lie on the
+/// body's centre line, 1 and 4 at its left side, 2 and 5 at its right (their rays reach the upper
+/// corners of the body's cross-section, which rays from the centre line leave out). Rays from one
+/// end only leave a wedge above the diagonal uncarved, just behind the keyframe: views from both
+/// ends carve everything below half the body's height.
+inline constexpr std::uint64_t kBodyViewSlots = 6;
+/// The body views of one end (TrajectoryEvidence::bodyViewsOf).
+inline constexpr std::uint64_t kBodyViewsPerEnd = 3;
 /// The id of view `slot` of keyframe `id`.
 inline mesher::KeyframeId bodyViewId(mesher::KeyframeId id, std::uint64_t slot = 0) {
   return mesher::KeyframeId{kBodyViewKeyframeBit | slot << kBodyViewSlotShift | id.value};
@@ -140,6 +146,9 @@ struct TrajectoryEvidenceConfig {
   /// Each keyframe sent after a keyframe within `max_sweep_distance_m` gets its body views
   /// (TrajectoryEvidence::bodyViewsOf) in the mesher; off: none (for ablation studies).
   bool body_views = true;
+  /// Body views over both ends (slots 0-5); off: over the previous keyframe's base only (slots
+  /// 0-2, for ablation studies).
+  bool body_views_from_both_ends = true;
 
   /// @throw std::invalid_argument listing every out-of-range field, each "key: value (expected ...)".
   void validate() const;
@@ -260,13 +269,14 @@ class TrajectoryEvidence {
 
   /// The body views of a keyframe augment() has recorded, when it was sent after a keyframe within
   /// `max_sweep_distance_m`: kBodyViewSlots keyframes with ids bodyViewId(id, slot), each with its
-  /// centre in the robot's body, `min_clearance_m` (at most the sensor height) above the previous
-  /// keyframe's base (as recorded with this one): on the centre line, and at the left and right
-  /// edges of the footprint (the disc's radius, the rectangle's half width). Each observes this
-  /// keyframe's samples: its own patch and its stations. Their rays run inside the body volume
-  /// swept between the two, from behind and low, where the sensor's own rays (from above and
-  /// ahead) leave closing faces over the driven strip and up its sides. Empty when the keyframe is
-  /// unknown or had no previous keyframe near enough (remove earlier body views then).
+  /// centre in the robot's body, `min_clearance_m` (at most the sensor height) above a base: the
+  /// previous keyframe's (as recorded with this one; slots 0-2) and this keyframe's (slots 3-5),
+  /// on the centre line and at the left and right edges of the footprint (the disc's radius, the
+  /// rectangle's half width). Each observes this keyframe's samples: its own patch and its
+  /// stations. Their rays run inside the body volume swept between the two, low, where the
+  /// sensor's own rays (from above and ahead) leave closing faces over the driven strip and up its
+  /// sides. Empty when the keyframe is unknown or had no previous keyframe near enough (remove
+  /// earlier body views then).
   std::vector<mesher::Keyframe> bodyViewsOf(mesher::KeyframeId id) const;
 
   /// Forgets keyframe `id` and returns the ids of its samples (to remove from the mesher after
