@@ -150,7 +150,9 @@ TEST(BodyViewsTest, BelowHalfTheBodysHeightTheyLeaveNothingInTheVolumeItSwept) {
     EXPECT_EQ(both, 0u) << name;
     EXPECT_LE(both, one) << name;
     EXPECT_LE(one, none) << name;
-    if (std::string(name) == "car") EXPECT_GT(none, 0u) << "without the views the car's swept body keeps faces";
+    if (std::string(name) == "car") {
+      EXPECT_GT(none, 0u) << "without the views the car's swept body keeps faces";
+    }
   }
 }
 
