@@ -423,7 +423,8 @@ void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesyst
             << evidence_.overriddenKeyframes()
             << " keyframe(s) whose drive an obstacle seen later overrode (their driven evidence withdrawn); "
             << evidence_.undersidedKeyframes()
-            << " keyframe(s) with a level beneath their drive (its ground given undersides)\n";
+            << " keyframe(s) with a level beneath their drive (its ground given undersides); "
+            << evidence_.turnKeyframes() << " keyframe(s) driven to through a turn (stations along the curve)\n";
   }
   if (evidence_.warning()) summary << "warning: " << *evidence_.warning() << '\n';
   if (traversability_) traversability_->finish(*mesher_, summary);

@@ -111,7 +111,7 @@ std::string TrajectoryEvidenceRun::settings() const {
   text.precision(17);
   text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe()
        << " station_spacing_m=" << station_spacing_m_ << " underside_depth_m=" << underside_depth_m_
-       << " body_views=1 body_view_ends=2 later_obstacles=1";
+       << " body_views=1 body_view_ends=2 later_obstacles=1 turns=curve";
   return text.str();
 }
 

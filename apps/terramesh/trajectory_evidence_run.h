@@ -77,6 +77,8 @@ class TrajectoryEvidenceRun {
   std::size_t absorbedPoints() const { return evidence_ ? evidence_->absorbedCount() : 0; }
   /// Keyframes whose drive obstacles seen later overrode so far.
   std::size_t overriddenKeyframes() const { return evidence_ ? evidence_->overriddenCount() : 0; }
+  /// Keyframes driven to through a turn, their stations along the curve.
+  std::size_t turnKeyframes() const { return evidence_ ? evidence_->turnCount() : 0; }
   /// Keyframes with a level beneath their drive, whose samples got undersides.
   std::size_t undersidedKeyframes() const { return evidence_ ? evidence_->undersidedCount() : 0; }
   /// A disagreement between a given height and the data, if any.

@@ -13,7 +13,6 @@
 #include <stdexcept>
 #include <tuple>
 
-
 #include "ground_frame.h"
 
 namespace terramesh::traversability {
@@ -149,44 +148,6 @@ TrajectoryEvidence::TrajectoryEvidence(const RobotProfile& profile, const Eigen:
                                 " samples per keyframe (at most " + std::to_string(kMaxDrivenSamplesPerKeyframe) +
                                 "): increase sample_spacing_m");
   }
-}
-
-std::size_t TrajectoryEvidence::stationsFor(double gap_m) const {
-  if (!(config_.station_spacing_m > 0) || !(gap_m > 0)) return 0;
-  const double spacing = std::max(config_.station_spacing_m, patch_length_m_);
-  const double wanted = std::ceil(gap_m / spacing) - 1;
-  return wanted <= 0 ? 0 : std::min(maxStationsPerKeyframe(), static_cast<std::size_t>(wanted));
-}
-
-TrajectoryEvidence::Pose TrajectoryEvidence::stationPose(const Pose& pose, std::size_t station) const {
-  if (station == 0) return pose;
-  const double t = static_cast<double>(station) / static_cast<double>(pose.stations + 1);
-  Pose at = pose;
-  at.position_W = pose.previous_position_W + t * (pose.position_W - pose.previous_position_W);
-  at.rotation_W_C = pose.previous_rotation_W_C.normalized().slerp(t, pose.rotation_W_C.normalized());
-  return at;
-}
-
-std::vector<mesher::PointObservation> TrajectoryEvidence::samplesAt(mesher::KeyframeId id, const Pose& pose) const {
-  if (id.value > kMaxDrivenKeyframeId) {
-    throw std::invalid_argument("keyframe " + std::to_string(id.value) + ": trajectory evidence needs keyframe ids <= " +
-                                std::to_string(kMaxDrivenKeyframeId) + " (they are part of the samples' point ids)");
-  }
-  const std::size_t patch = layout_B_m_.size();
-  std::vector<mesher::PointObservation> samples;
-  samples.reserve(patch * (1 + pose.stations));
-  // Station 0 is the keyframe; stations 1..n lie between the previous keyframe and it.
-  for (std::size_t station = 0; station <= pose.stations; ++station) {
-    const Eigen::Isometry3d T_W_B = baseAt(stationPose(pose, station));
-    for (std::size_t i = 0; i < patch; ++i) {
-      mesher::PointObservation sample;
-      sample.point = mesher::PointId{kDrivenGroundIdBit | (id.value << kDrivenSampleIndexBits) | (station * patch + i)};
-      sample.position_W = T_W_B * (layout_B_m_[i] / metres_per_unit_);
-      sample.kind = mesher::PointKind::kDrivenGround;
-      samples.push_back(sample);
-    }
-  }
-  return samples;
 }
 
 void TrajectoryEvidence::findLevelsBeneath(mesher::KeyframeId id, const Pose& pose) {
@@ -394,33 +355,6 @@ void TrajectoryEvidence::overrideDrive(std::uint64_t id, bool with_previous) {
   if (with_previous && pose.has_previous && poses_.count(pose.previous_id) != 0) overrideDrive(pose.previous_id, false);
 }
 
-Eigen::Isometry3d TrajectoryEvidence::baseAt(const Pose& pose) const {
-  Eigen::Isometry3d T_W_B = Eigen::Isometry3d::Identity();
-  const Eigen::Matrix3d R_W_C = pose.rotation_W_C.normalized().toRotationMatrix();
-  if (T_B_S_) {
-    Eigen::Isometry3d T_W_C = Eigen::Isometry3d::Identity();
-    T_W_C.linear() = R_W_C;
-    T_W_C.translation() = pose.position_W;
-    Eigen::Isometry3d T_B_S_units = *T_B_S_;
-    T_B_S_units.translation() /= metres_per_unit_;
-    T_W_B = T_W_C * T_B_S_units.inverse();
-  } else {
-    // Heading: the sensor's forward axis on the ground plane (its right axis if it looks straight down).
-    Eigen::Vector3d forward = R_W_C * forward_S_;
-    forward -= forward.dot(up_W_) * up_W_;
-    if (forward.norm() < 1e-6) {
-      forward = R_W_C * forward_S_.unitOrthogonal();
-      forward -= forward.dot(up_W_) * up_W_;
-    }
-    forward.normalize();
-    T_W_B.linear().col(0) = forward;
-    T_W_B.linear().col(1) = up_W_.cross(forward);
-    T_W_B.linear().col(2) = up_W_;
-    T_W_B.translation() = pose.position_W - (sensor_height_m_ / metres_per_unit_) * up_W_;
-  }
-  return T_W_B;
-}
-
 std::vector<mesher::PointObservation> TrajectoryEvidence::samplesOf(const mesher::Keyframe& keyframe) const {
   Pose pose;
   const auto known = poses_.find(keyframe.id.value);
@@ -448,6 +382,7 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   pose.order = known != poses_.end() ? known->second.order : next_order_;
   // The keyframe sent before it, if near enough to have been driven to in one go.
   std::optional<std::pair<mesher::KeyframeId, Pose>> previous;
+  pose.curved = false;
   const auto before = by_order_.lower_bound(pose.order);
   if (before != by_order_.begin() && config_.max_sweep_distance_m > 0) {
     const mesher::KeyframeId id = std::prev(before)->second;
@@ -455,8 +390,12 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
     const double distance_m = (candidate.position_W - pose.position_W).norm() * metres_per_unit_;
     const Eigen::Vector3d forward = baseAt(pose).linear().col(0), before_forward = baseAt(candidate).linear().col(0);
     const double turn = std::atan2(forward.cross(before_forward).norm(), forward.dot(before_forward));
-    if (distance_m <= config_.max_sweep_distance_m && distance_m * turn / 8.0 <= config_.max_sweep_sagitta_m) {
+    const double sagitta_m = distance_m * turn / 8.0;
+    if (distance_m <= config_.max_sweep_distance_m && sagitta_m <= config_.max_sweep_sagitta_m) {
       previous.emplace(id, candidate);
+    } else if (distance_m <= config_.max_sweep_distance_m && followsTurn(candidate, pose, sagitta_m)) {
+      previous.emplace(id, candidate);
+      pose.curved = true;
     }
   }
   if (known == poses_.end()) {
@@ -484,9 +423,10 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   const std::size_t new_bodies = bodies.size();
   if (previous) {
     bodies.push_back(baseAt(previous->second));
+    // Half way along the straight line (a turn's stations already follow its curve).
     Pose half = pose;
     half.position_W = 0.5 * (previous->second.position_W + pose.position_W);
-    bodies.push_back(baseAt(half));
+    if (!pose.curved) bodies.push_back(baseAt(half));
   }
   const std::vector<mesher::PointObservation> own = samplesAt(keyframe.id, pose);  // throws before any change
   dropContradicted(augmented, bodies, new_bodies);
@@ -498,8 +438,10 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   // No sweep from an overridden keyframe's sensor, nor to an overridden keyframe's samples.
   const bool sweep = previous && !overridden && overridden_.count(previous->first.value) == 0;
   if (sweep) {
-    // The sweep: this sensor also observes the previous keyframe's samples.
-    const std::vector<mesher::PointObservation> swept = samplesAt(previous->first, previous->second);
+    // The sweep: this sensor also observes the previous keyframe's samples (through a turn, those
+    // its rays reach over the curve).
+    std::vector<mesher::PointObservation> swept = samplesAt(previous->first, previous->second);
+    if (pose.curved) swept = seenWithinTurn(pose, pose.position_W, swept);
     augmented.observations.insert(augmented.observations.end(), swept.begin(), swept.end());
   }
   if (known == poses_.end()) {
@@ -560,8 +502,10 @@ std::vector<mesher::Keyframe> TrajectoryEvidence::bodyViewsOf(mesher::KeyframeId
     const Eigen::Vector3d top_B(0, lateral_m[slot % kBodyViewsPerEnd], height_m);
     view.position_W_C = baseAt(end) * (top_B / metres_per_unit_);
     view.rotation_W_C = end.rotation_W_C;
-    view.observations = samples;
+    view.observations = it->second.curved ? seenWithinTurn(it->second, view.position_W_C, samples) : samples;
   }
+  const auto blind = [](const mesher::Keyframe& view) { return view.observations.empty(); };
+  views.erase(std::remove_if(views.begin(), views.end(), blind), views.end());
   return views;
 }
 

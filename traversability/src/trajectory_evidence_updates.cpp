@@ -3,6 +3,7 @@
 // sensor's forward axis the samples are laid out along.
 #include "traversability/trajectory_evidence.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -26,8 +27,9 @@ mesher::UpdateStats TrajectoryEvidence::integrate(mesher::Mesher& mesher, const 
   const std::vector<mesher::Keyframe> views =
       config_.body_views ? bodyViewsOf(keyframe.id) : std::vector<mesher::Keyframe>{};
   for (const mesher::Keyframe& view : views) stats += mesher.integrateKeyframe(view);
-  if (views.empty()) {
-    for (const mesher::KeyframeId& view : bodyViewIds(keyframe.id)) stats += mesher.removeKeyframe(view);
+  for (const mesher::KeyframeId& id : bodyViewIds(keyframe.id)) {
+    const auto same = [&](const mesher::Keyframe& view) { return view.id == id; };
+    if (std::none_of(views.begin(), views.end(), same)) stats += mesher.removeKeyframe(id);
   }
   // The undersides of the drives with a level beneath: this keyframe's (at its pose now), and those
   // of earlier keyframes its sensor lies beneath.

@@ -81,6 +81,14 @@ struct TrajectoryEvidenceConfig {
   /// ... and when the straight line between them stays near the arc the robot drove: the arc's
   /// sagitta, distance x heading change / 8, at most this.
   double max_sweep_sagitta_m = 0.25;
+  /// Through a turn whose sagitta exceeds `max_sweep_sagitta_m` but not the footprint's half width
+  /// (disc: its radius), with both headings within 60 degrees of the way between the keyframes
+  /// (forwards or in reverse), the stations follow the curve through both poses tangent to their
+  /// headings (a cubic Hermite curve) instead of the straight line. Its sweep and body views keep
+  /// only the rays whose ground track stays within the footprint's half width of that curve (the
+  /// others would leave the body the robot swept). Off: such a stretch has no stations, no sweep
+  /// and no body views, as one beyond reach.
+  bool stations_along_turns = true;
   /// The robot also drove between two keyframes within `max_sweep_distance_m`: the later one
   /// carries patches at stations along the way, at most this far apart along the path, or the
   /// patch's own length if that is longer (0: no stations). A keyframe keeps the number of
@@ -140,7 +148,7 @@ struct TrajectoryEvidenceConfig {
   /// A level lies beneath a keyframe's driven ground when a keyframe's sensor lies more than
   /// `beneath_margin_m` below that ground, within `beneath_radius_m` of it horizontally (a hill
   /// rising less than (sensor height + margin) / radius never counts).
-  double beneath_radius_m = 10.0;
+  double beneath_radius_m = 20.0;
   double beneath_margin_m = 1.0;
 
   /// Each keyframe sent after a keyframe within `max_sweep_distance_m` gets its body views
@@ -275,8 +283,9 @@ class TrajectoryEvidence {
   /// rectangle's half width). Each observes this keyframe's samples: its own patch and its
   /// stations. Their rays run inside the body volume swept between the two, low, where the
   /// sensor's own rays (from above and ahead) leave closing faces over the driven strip and up its
-  /// sides. Empty when the keyframe is unknown or had no previous keyframe near enough (remove
-  /// earlier body views then).
+  /// sides. Through a turn (stations_along_turns), each keeps the samples its rays reach without
+  /// leaving the body swept along the curve, and a view left with none is not listed. Empty when
+  /// the keyframe is unknown or had no previous keyframe near enough (remove the views not listed).
   std::vector<mesher::Keyframe> bodyViewsOf(mesher::KeyframeId id) const;
 
   /// Forgets keyframe `id` and returns the ids of its samples (to remove from the mesher after
@@ -322,6 +331,8 @@ class TrajectoryEvidence {
   std::size_t undersidedCount() const { return undersided_.size(); }
   /// How many keyframes later obstacles have overridden so far.
   std::size_t overriddenCount() const { return overridden_.size(); }
+  /// How many recorded keyframes were driven to through a turn (stations_along_turns).
+  std::size_t turnCount() const;
   /// The ids of all samples keyframe `id` has or had (its patch and stations, and their
   /// undersides); empty if unknown.
   std::vector<mesher::PointId> sampleIdsOf(mesher::KeyframeId id) const;
@@ -369,6 +380,9 @@ class TrajectoryEvidence {
     /// Whether the last send found a previous keyframe near enough (the body view exists), and which.
     bool has_previous = false;
     std::uint64_t previous_id = 0;
+    /// Whether the way from the previous keyframe is a turn (stations_along_turns): stations on
+    /// the curve; the sweep and the body views keep the rays that stay over it (seenWithinTurn).
+    bool curved = false;
   };
   std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
   /// The underside vertices of `samples` (underside_depth_m below each; none at 0).
@@ -378,6 +392,13 @@ class TrajectoryEvidence {
   void findLevelsBeneath(mesher::KeyframeId id, const Pose& pose);
   /// The pose at `station` (0: the keyframe's own; 1..stations from the previous pose on).
   Pose stationPose(const Pose& pose, std::size_t station) const;
+  /// Whether the way from `before` to `pose` is a turn its stations can follow (stations_along_turns),
+  /// given the arc's sagitta in metres.
+  bool followsTurn(const Pose& before, const Pose& pose, double sagitta_m) const;
+  /// Of `samples`, those seen from `from_W` along a ray whose ground track stays within the
+  /// footprint's half width of the curve a turn's stations follow (`pose` curved).
+  std::vector<mesher::PointObservation> seenWithinTurn(const Pose& pose, const Eigen::Vector3d& from_W,
+                                                       const std::vector<mesher::PointObservation>& samples) const;
   /// The robot base frame B at a keyframe's pose (map units).
   Eigen::Isometry3d baseAt(const Pose& pose) const;
   /// Whether p_W lies inside the robot's body with its base at T_W_B.
