@@ -95,8 +95,13 @@ struct Grower {
       level_of[f] = level;
       addFootprint(level_cells, footprints[f]);
       for (std::uint32_t g : neighbours[f]) {
-        if (walkable[g] && level_of[g] == Levels::kNone && tried[g] != level) {
-          queue.emplace(std::abs(plans[g].centroid_height_m - seed_height), g);
+        // A level climbs at most level_separation_m from its seed: what lies higher seeds a
+        // level of its own, which the merge pass joins to the level it fits (a ramp's upper half
+        // to the deck it leads to). Otherwise which floor gets a ramp, and the deck beyond it over
+        // other floors, would depend on which part of the floor below happened to reach it first.
+        const double rise = std::abs(plans[g].centroid_height_m - seed_height);
+        if (walkable[g] && level_of[g] == Levels::kNone && tried[g] != level && rise <= config.level_separation_m) {
+          queue.emplace(rise, g);
         }
       }
     }

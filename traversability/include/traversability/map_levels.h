@@ -78,7 +78,8 @@ struct Levels {
 /// over edge-adjacent walkable faces, best-first by height difference to the seed (the seed's
 /// floor fills before a ramp leads elsewhere). A face joins only if, on every overlap cell its
 /// plan bounding box touches, the level's height interval stays within `level_separation_m`:
-/// so no level holds two surfaces stacked above each other. Then, largest first, each level is
+/// so no level holds two surfaces stacked above each other; and it climbs no further than
+/// `level_separation_m` from its seed (higher faces seed levels of their own). Then, largest first, each level is
 /// merged into the first kept level (most shared edges first, then largest) that takes all its
 /// faces without an overlap conflict: regions cut apart only by lethal faces (a sidewalk behind
 /// a curb, a car roof) share one map, and only stacked surfaces stay apart. A level that cannot
