@@ -205,8 +205,9 @@ TEST(GroundRuleLevelsTest, TheFloorBeneathADrivenDeckStaysFreeAndTheDeckSolid) {
               road_off.upper_deck);
   // Inside the 0.3 m slab under the upper deck's road nearly nothing is free: no camera above it
   // sees through the driven ground, and the cameras below see its underside. (Measured 0.013 with
-  // stations only on straight stretches, 0.025 with them along turns too: the probes follow the
-  // straight line between keyframes, which through a turn runs inside the curve the strip follows.)
+  // stations only on straight stretches, 0.025 with them along turns too. The probes follow the
+  // straight line between keyframes, which through a turn runs inside the curve the strip now
+  // follows; that this is where the free ones lie is not traced.)
   const PathFree slab = freeUnderPath(with, camera_height_m + 0.1);
   const PathFree slab_off = freeUnderPath(without, camera_height_m + 0.1);
   std::printf("0.1 m under the upper deck's road (in the slab) in free space: %.3f (%.3f without evidence)\n",

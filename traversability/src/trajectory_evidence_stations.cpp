@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "common/closest_point.h"
+
 namespace terramesh::traversability {
 
 std::size_t TrajectoryEvidence::stationsFor(double gap_m) const {
@@ -71,9 +73,7 @@ std::vector<mesher::PointObservation> TrajectoryEvidence::seenWithinTurn(
   const double reach = ((disc_ ? radius_m_ : half_width_m_) + 0.01) / metres_per_unit_;
   const auto near_line = [&](const Eigen::Vector3d& q) {
     for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-      const Eigen::Vector3d d = line[i + 1] - line[i];
-      const double t = d.squaredNorm() > 0 ? std::clamp((q - line[i]).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-      if ((line[i] + t * d - q).norm() <= reach) return true;
+      if ((geometry::closestPointOnSegment(q, line[i], line[i + 1]) - q).norm() <= reach) return true;
     }
     return false;
   };
