@@ -232,8 +232,16 @@ SurfaceCostObjective::SurfaceCostObjective(const ompl::base::SpaceInformationPtr
 }
 
 ompl::base::Cost SurfaceCostObjective::motionCost(const ompl::base::State* s1, const ompl::base::State* s2) const {
-  const SurfaceWalk walk = space_.graph().walk(st(s1).location(), st(s2).location(), false, space_.maxDetour());
-  return walk.reached() ? ompl::base::Cost(walk.cost) : infiniteCost();
+  const FaceGraph& graph = space_.graph();
+  const SurfaceWalk walk = graph.walk(st(s1).location(), st(s2).location(), false, space_.maxDetour());
+  if (walk.reached()) return ompl::base::Cost(walk.cost);
+  // A motion the walk does not complete is invalid, but lazy planners (LazyPRM*) weigh their
+  // edges before they validate them, and an infinite weight joins two roadmap components by an
+  // edge their A* can never take: it then finds start and goal joined and no path between them.
+  // A finite weight, the rest of the way at the dearest walkable rate, gets the edge validated
+  // and removed instead.
+  const double remaining_m = (st(s2).point_W - walk.points.back().point_W).norm() * graph.metresPerUnit();
+  return ompl::base::Cost(walk.cost + remaining_m * (1.0 + graph.config().cost_weight) * space_.maxDetour());
 }
 
 ompl::base::Cost SurfaceCostObjective::motionCostHeuristic(const ompl::base::State* s1,

@@ -138,6 +138,43 @@ void appendWalkYaws(const SurfaceWalk& walk, double yaw_from, double yaw_to, std
   }
 }
 
+/// Fills `result`'s waypoints, dense states, length and cost from the planner's `path`, walking
+/// the surface between its states (either way round: PRM-family roadmaps are undirected). The
+/// walk's stop reason when a piece does not walk either way, else empty.
+std::string walkSolution(const FaceGraph& graph, const ompl::geometric::PathGeometric& path,
+                         const PlannerConfig& config, PlanResult& result) {
+  result.waypoints.clear();
+  result.length_m = 0;
+  result.cost = 0;
+  std::vector<SurfaceLocation> dense;
+  std::vector<double> body_yaws;  // a body that keeps its own heading: its yaw at each dense point
+  const bool own_heading = graph.keepsOwnHeading();
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) {
+    const auto* state = path.getState(i)->as<SurfaceStateSpace::StateType>();
+    result.waypoints.push_back(pathState(graph, state->location(), state->yaw));
+    if (i == 0) {
+      dense.push_back(state->location());
+      if (own_heading) body_yaws.push_back(state->yaw);
+      continue;
+    }
+    const auto* previous = path.getState(i - 1)->as<SurfaceStateSpace::StateType>();
+    SurfaceWalk walk = graph.walk(previous->location(), state->location(), true, config.max_detour,
+                                  internal::bodyTurn(graph, previous->yaw, state->yaw));
+    if (!walk.reached()) {
+      // The surface walk is not symmetric: OMPL may have validated this edge from its other end.
+      walk = reversed(graph.walk(state->location(), previous->location(), true, config.max_detour,
+                                 internal::bodyTurn(graph, state->yaw, previous->yaw)));
+    }
+    if (!walk.reached()) return toString(walk.stop);
+    dense.insert(dense.end(), walk.points.begin() + 1, walk.points.end());
+    if (own_heading) appendWalkYaws(walk, previous->yaw, state->yaw, body_yaws);
+    result.length_m += walk.length_m;
+    result.cost += walk.cost;
+  }
+  densify(graph, dense, result, body_yaws);
+  return {};
+}
+
 }  // namespace
 
 void PlannerConfig::validate() const {
@@ -228,44 +265,28 @@ PlanResult planOnSurface(const FaceGraph& graph, const Eigen::Vector3d& start_W,
     result.first_cost = setup.getSolutionPath().cost(objective).value();
     result.first_time_s = result.planning_time_s;
   }
+  const ompl::geometric::PathGeometric planned = setup.getSolutionPath();
   if (config.simplify) {
     const auto simplify_started = Clock::now();
     setup.simplifySolution(std::max(0.05, 0.25 * config.time_budget_s));
+    result.simplified = true;
     result.simplify_time_s = std::chrono::duration<double>(Clock::now() - simplify_started).count();
   }
   const ompl::geometric::PathGeometric& path = setup.getSolutionPath();
-  std::vector<SurfaceLocation> dense;
-  std::vector<double> body_yaws;  // a body that keeps its own heading: its yaw at each dense point
-  const bool own_heading = graph.keepsOwnHeading();
-  for (std::size_t i = 0; i < path.getStateCount(); ++i) {
-    const auto* state = path.getState(i)->as<SurfaceStateSpace::StateType>();
-    result.waypoints.push_back(pathState(graph, state->location(), state->yaw));
-    if (i == 0) {
-      dense.push_back(state->location());
-      if (own_heading) body_yaws.push_back(state->yaw);
-      continue;
-    }
-    const auto* previous = path.getState(i - 1)->as<SurfaceStateSpace::StateType>();
-    SurfaceWalk walk = graph.walk(previous->location(), state->location(), true, config.max_detour,
-                                  internal::bodyTurn(graph, previous->yaw, state->yaw));
-    if (!walk.reached()) {
-      // The surface walk is not symmetric, and PRM-family roadmaps are undirected: OMPL may have
-      // validated this edge from its other end. Walk it that way and turn the walk round.
-      walk = reversed(graph.walk(state->location(), previous->location(), true, config.max_detour,
-                                 internal::bodyTurn(graph, state->yaw, previous->yaw)));
-    }
-    if (!walk.reached()) {
-      // Cannot happen for a path OMPL validated with the same walk; refuse rather than report it.
-      result.status = PlanStatus::kNotFound;
-      result.reason = std::string("internal: a solution segment does not walk (") + toString(walk.stop) + ")";
-      return result;
-    }
-    dense.insert(dense.end(), walk.points.begin() + 1, walk.points.end());
-    if (own_heading) appendWalkYaws(walk, previous->yaw, state->yaw, body_yaws);
-    result.length_m += walk.length_m;
-    result.cost += walk.cost;
+  std::string stop = walkSolution(graph, path, config, result);
+  if (!stop.empty() && config.simplify) {
+    // OMPL's shortcuts keep the parts of a validated piece unchecked, as parts of a straight
+    // motion would be; a surface walk from a point part-way along a piece need not follow it. The
+    // path as planned had every piece validated: keep it.
+    stop = walkSolution(graph, planned, config, result);
+    result.simplified = false;
   }
-  densify(graph, dense, result, body_yaws);
+  if (!stop.empty()) {
+    // Cannot happen for a path OMPL validated with the same walk; refuse rather than report it.
+    result.status = PlanStatus::kNotFound;
+    result.reason = "internal: a solution segment does not walk (" + stop + ")";
+    return result;
+  }
   result.status = PlanStatus::kSolved;
   return result;
 }

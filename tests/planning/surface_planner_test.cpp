@@ -136,6 +136,27 @@ TEST_F(SurfacePlannerTest, BetweenFloorsOnlyOverTheRamp) {
   }
 }
 
+/// Between the floors on several seeds, with the roadmap planners too. LazyPRM* weighs its edges
+/// before it validates them: with an infinite weight for a motion the walk does not complete (the
+/// straight edge from floor to floor), it found start and goal joined and threw "Could not find
+/// solution path" at once. Whatever the simplifier returns, the path walks the walkable surface
+/// piece by piece (OMPL's shortcuts keep parts of a validated piece unchecked).
+TEST_F(SurfacePlannerTest, RoadmapPlannersBetweenFloorsOnEverySeed) {
+  const FaceGraph graph(test::twoLevelMap(), walkability());
+  for (const std::string& name : {std::string("lazyprmstar"), std::string("prmstar")}) {
+    for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+      SCOPED_TRACE(name + ", seed " + std::to_string(seed));
+      PlannerConfig config = plannerConfig(name, 0.2);
+      config.seed = seed;
+      seedOmpl(seed);
+      const PlanResult result = planOnSurface(graph, {6, 7, 0}, {6, 7, 3}, config);
+      ASSERT_TRUE(result.solved()) << result.reason;
+      expectOnWalkableSurface(graph, result);
+      EXPECT_GT(result.length_m, 60.0);
+    }
+  }
+}
+
 TEST_F(SurfacePlannerTest, APlannerResumedInShortRoundsReturnsAValidPath) {
   const FaceGraph graph(test::twoLevelMap(), walkability());
   // A 10 ms budget is usually too short for a path between the floors (69 m over the ramp): the

@@ -83,8 +83,11 @@ struct PlanResult {
   /// The path as a dense polyline on the surface: the planner's states and every edge crossing
   /// between them.
   std::vector<PathState> states;
-  /// The planner's own states (after simplification).
+  /// The planner's own states (after simplification, when `simplified`).
   std::vector<PathState> waypoints;
+  /// Whether the path is the simplified one. False when simplification is off, or when a piece of
+  /// its result did not walk the surface; then the path is the planner's, every piece validated.
+  bool simplified = false;
   double length_m = 0;
   double cost = 0;
   /// The part of length_m over unknown faces (only with WalkabilityConfig::allow_unknown).
