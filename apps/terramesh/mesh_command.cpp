@@ -204,7 +204,8 @@ MeshJob::MeshJob(const MeshOptions& o, mesher::MesherMode mode, std::optional<Me
   if (!resumed_) inferred_ = describeInferredSettings(o.mesher, stream_, config_);
   traversability_ = TraversabilitySession::fromOptions(o.traversability, stream_, config_.metres_per_unit, output_);
   if (tile_) tile_->attach(*traversability_, exportConfigFrom(o.traversability.exports), config_.metres_per_unit);
-  evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr);
+  evidence_ = TrajectoryEvidenceRun::fromOptions(o.evidence, stream_, traversability_ ? &*traversability_ : nullptr,
+                                                 config_.min_views);
   freeze_ = MeshFreeze::fromOptions(o.freeze, traversability_ ? &*traversability_ : nullptr,
                                     config_.max_camera_distance_m, output_);
   const std::string freeze_settings = freeze_ ? freeze_->settings() : "off";
@@ -421,7 +422,8 @@ void MeshJob::writeSummary(const mesher::TriangleMesh& mesh, const std::filesyst
             << " on the ground it drove (near the contact plane, under the footprint), stood for by the "
                "driven samples; "
             << evidence_.overriddenKeyframes()
-            << " keyframe(s) whose drive an obstacle seen later overrode (their driven evidence withdrawn); "
+            << " keyframe(s) whose drive an obstacle seen later overrode (a point " << evidence_.laterObstacleMinViews()
+            << " keyframe(s) saw; their driven evidence withdrawn); "
             << evidence_.undersidedKeyframes()
             << " keyframe(s) with a level beneath their drive (its ground given undersides); "
             << evidence_.turnKeyframes() << " keyframe(s) driven to through a turn (stations along the curve)\n";

@@ -29,7 +29,7 @@ void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& opti
 
 TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenceOptions& options,
                                                          const datasets::SlamStream& stream,
-                                                         const TraversabilitySession* session) {
+                                                         const TraversabilitySession* session, int min_views) {
   if (options.sensor_height_m && !session) throw UsageError("mesh: --sensor-height-m needs --robot");
   if (options.sensor_height_m && !(*options.sensor_height_m > 0 && *options.sensor_height_m <= 20)) {
     throw UsageError("mesh: --sensor-height-m must be in (0, 20]");
@@ -39,6 +39,7 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   traversability::TrajectoryEvidenceConfig config;
   config.station_spacing_m = options.station_spacing_m;
   config.underside_depth_m = options.underside_depth_m;
+  config.later_obstacle_min_views = min_views;
   const traversability::RobotProfile& profile = session->profile();
   const traversability::MapFrame& frame = session->frame();
   const std::vector<Eigen::Vector3d> sensors_W = datasets::latestKeyframeCentres(stream);
@@ -56,6 +57,7 @@ TrajectoryEvidenceRun TrajectoryEvidenceRun::fromOptions(const TrajectoryEvidenc
   run.sensor_height_source_ = decision.source;
   run.station_spacing_m_ = config.station_spacing_m;
   run.underside_depth_m_ = config.underside_depth_m;
+  run.later_obstacle_min_views_ = config.later_obstacle_min_views;
   std::ostringstream patches;
   patches << "; patches of " << run.evidence_->samplesPerKeyframe() << " driven-ground samples under each keyframe";
   if (config.station_spacing_m > 0) {
@@ -111,7 +113,8 @@ std::string TrajectoryEvidenceRun::settings() const {
   text.precision(17);
   text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe()
        << " station_spacing_m=" << station_spacing_m_ << " underside_depth_m=" << underside_depth_m_
-       << " body_views=1 body_view_ends=2 later_obstacles=1 turns=curve";
+       << " body_views=1 body_view_ends=2 later_obstacles=1 later_obstacle_views=" << later_obstacle_min_views_
+       << " turns=curve";
   return text.str();
 }
 

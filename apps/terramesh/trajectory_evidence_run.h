@@ -31,10 +31,11 @@ void addTrajectoryEvidenceOptions(CLI::App& app, TrajectoryEvidenceOptions& opti
 class TrajectoryEvidenceRun {
  public:
   /// Off without a session (no --robot) or with --no-trajectory-evidence; otherwise estimates the
-  /// sensor height from the stream's latest keyframe poses and point estimates and decides.
+  /// sensor height from the stream's latest keyframe poses and point estimates and decides. A
+  /// later obstacle needs `min_views` keyframes, as a point the mesher inserts.
   /// @throw UsageError for --sensor-height-m without --robot or out of (0, 20].
   static TrajectoryEvidenceRun fromOptions(const TrajectoryEvidenceOptions& options, const datasets::SlamStream& stream,
-                                           const TraversabilitySession* session);
+                                           const TraversabilitySession* session, int min_views);
 
   /// Applies one stream event to the mesher, with the evidence when on (exactly
   /// datasets::applyEvent when off). A keyframe removal also removes its samples (one stats sum).
@@ -77,6 +78,8 @@ class TrajectoryEvidenceRun {
   std::size_t absorbedPoints() const { return evidence_ ? evidence_->absorbedCount() : 0; }
   /// Keyframes whose drive obstacles seen later overrode so far.
   std::size_t overriddenKeyframes() const { return evidence_ ? evidence_->overriddenCount() : 0; }
+  /// Keyframes that must see a point before it overrides a drive (the mesher's min_views).
+  int laterObstacleMinViews() const { return later_obstacle_min_views_; }
   /// Keyframes driven to through a turn, their stations along the curve.
   std::size_t turnKeyframes() const { return evidence_ ? evidence_->turnCount() : 0; }
   /// Keyframes with a level beneath their drive, whose samples got undersides.
@@ -93,6 +96,7 @@ class TrajectoryEvidenceRun {
   std::string sensor_height_source_;
   double station_spacing_m_ = 0;
   double underside_depth_m_ = 0;
+  int later_obstacle_min_views_ = 1;
   std::string summary_;
   std::optional<std::string> warning_;
 };

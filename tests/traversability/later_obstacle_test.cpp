@@ -183,14 +183,24 @@ TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDriv
   mesher::Keyframe later = cameraAt(6, {20, 0, 1});
   later.observations = {observation(100, {4, 0, 0.5}), observation(101, {4, 2, 0.5}), observation(102, {4, 0, 0.05})};
   evidence.augment(later);
-  // Keyframe 3, and keyframe 2, whose samples keyframe 3's sensor swept to.
+  // The point on the ground where keyframe 3 stood is ground the drive measured.
+  ASSERT_EQ(evidence.newlyContradicted().size(), 1u);
+  EXPECT_EQ(evidence.newlyContradicted().front().value, 102u);
+  // Seen by one keyframe, a point is not in the mesh (min_views 2) and overrides no drive; nor
+  // when that keyframe is sent again (a pose correction).
+  EXPECT_TRUE(evidence.newlyOverridden().empty());
+  evidence.augment(later);
+  EXPECT_TRUE(evidence.newlyOverridden().empty());
+  EXPECT_EQ(evidence.overriddenCount(), 0u);
+  // A second keyframe sees it: keyframe 3, and keyframe 2, whose samples keyframe 3's sensor
+  // swept to.
+  mesher::Keyframe second = cameraAt(9, {21, 0, 1});
+  second.observations = {observation(100, {4, 0, 0.5}), observation(101, {4, 2, 0.5})};
+  evidence.augment(second);
   ASSERT_EQ(evidence.newlyOverridden().size(), 2u);
   EXPECT_EQ(evidence.newlyOverridden()[0].value, 3u);
   EXPECT_EQ(evidence.newlyOverridden()[1].value, 2u);
   EXPECT_EQ(evidence.overriddenCount(), 2u);
-  // The point on the ground where keyframe 3 stood is ground the drive measured.
-  ASSERT_EQ(evidence.newlyContradicted().size(), 1u);
-  EXPECT_EQ(evidence.newlyContradicted().front().value, 102u);
   // The views of 3 and 2, and of 4 and 3, which stand at their bases: every slot of each.
   std::vector<std::uint64_t> views;
   for (const mesher::KeyframeId& id : evidence.newlyWithdrawnViews()) {
@@ -231,6 +241,14 @@ TEST(LaterObstacleTest, APointSeenLaterInsideAnOldBodyOverridesThatKeyframesDriv
   for (std::uint64_t k = 1; k <= 5; ++k) old_drive_wins.augment(cameraAt(k, {2.0 * (k - 1), 0, 1}));
   old_drive_wins.augment(later);
   EXPECT_TRUE(old_drive_wins.newlyOverridden().empty());
+
+  // Where the mesher inserts points seen once (LiDAR: min_views 1), one sighting is enough.
+  TrajectoryEvidenceConfig one_view;
+  one_view.later_obstacle_min_views = 1;
+  TrajectoryEvidence scans(discRobot(0.3), Eigen::Vector3d::UnitZ(), 1.0, 1.0, Eigen::Vector3d::UnitZ(), one_view);
+  for (std::uint64_t k = 1; k <= 5; ++k) scans.augment(cameraAt(k, {2.0 * (k - 1), 0, 1}));
+  scans.augment(later);
+  EXPECT_EQ(scans.overriddenCount(), 2u);
 }
 
 /// A box parked on a lane the robot drove earlier, seen only on a second lap, in the mesher. On

@@ -71,6 +71,7 @@ void TrajectoryEvidenceConfig::validate() const {
   require(envelope_quantile >= 0 && envelope_quantile <= 1, "envelope_quantile", envelope_quantile, "[0, 1]");
   require(ground_band_m >= 0 && ground_band_m <= 100, "ground_band_m", ground_band_m, "[0, 100]");
   require(min_keyframes >= 1, "min_keyframes", min_keyframes, "an integer >= 1");
+  require(later_obstacle_min_views >= 1, "later_obstacle_min_views", later_obstacle_min_views, "an integer >= 1");
   require(min_keyframe_fraction >= 0 && min_keyframe_fraction <= 1, "min_keyframe_fraction", min_keyframe_fraction,
           "[0, 1]");
   require(max_sensor_height_m > 0 && max_sensor_height_m <= 1000, "max_sensor_height_m", max_sensor_height_m,
@@ -96,7 +97,13 @@ struct TrajectoryEvidence::BodyIndex {
   /// Keyframe ids under the horizontal cell of each of their station bases (cell: the footprint's
   /// circumradius, so a body holding a point has its base in the 3 x 3 cells around it).
   internal::HorizontalGrid<std::uint64_t> cells;
-  std::unordered_set<std::uint64_t> seen_points;
+  /// Every SLAM point seen: the drive order before its first sighting and the first
+  /// later_obstacle_min_views keyframes that saw it.
+  struct Sightings {
+    std::uint64_t before_order = 0;
+    std::vector<std::uint64_t> keyframes;
+  };
+  std::unordered_map<std::uint64_t, Sightings> seen_points;
   /// The latest position of every SLAM point seen and not left out, and their ids by cell.
   std::unordered_map<std::uint64_t, Eigen::Vector3d> positions_W;
   internal::HorizontalGrid<std::uint64_t> point_cells;
@@ -326,12 +333,20 @@ void TrajectoryEvidence::indexBodies(mesher::KeyframeId id, const Pose& pose, bo
 
 void TrajectoryEvidence::findLaterObstacles(const mesher::Keyframe& keyframe, std::uint64_t before_order) {
   if (!config_.later_obstacles_win) return;
+  const auto views = static_cast<std::size_t>(config_.later_obstacle_min_views);
   for (const mesher::PointObservation& o : keyframe.observations) {
-    if (!bodies_->seen_points.insert(o.point.value).second) continue;  // seen before: not later
+    auto [seen, first] = bodies_->seen_points.try_emplace(o.point.value);
+    BodyIndex::Sightings& sightings = seen->second;
+    if (first) sightings.before_order = before_order;
+    std::vector<std::uint64_t>& by = sightings.keyframes;
+    // Only the sighting that brings the point to `views` keyframes (a keyframe sent again counts once).
+    if (by.size() >= views || std::find(by.begin(), by.end(), keyframe.id.value) != by.end()) continue;
+    by.push_back(keyframe.id.value);
+    if (by.size() < views) continue;
     bodies_->cells.around(bodies_->plane.project(o.position_W), [&](std::uint64_t id) {
       if (overridden_.count(id) != 0) return;
       const Pose& pose = poses_.at(id);
-      if (pose.order >= before_order) return;
+      if (pose.order >= sightings.before_order) return;
       for (std::size_t station = 0; station <= pose.stations; ++station) {
         if (!insideBody(baseAt(stationPose(pose, station)), o.position_W)) continue;
         overrideDrive(id, true);

@@ -138,6 +138,10 @@ struct TrajectoryEvidenceConfig {
   /// inside the body where the robot was two or more keyframes before, withdraws that keyframe's
   /// driven evidence (TrajectoryEvidence::newlyOverridden).
   bool later_obstacles_win = true;
+  /// ... once this many keyframes have seen the point (the mesher's min_views: a point seen by
+  /// fewer is not in the mesh either; one SLAM outlier does not undo a drive). The drive it
+  /// overrides is one before the point's first sighting.
+  int later_obstacle_min_views = 2;
 
   /// Ground a robot drove on is solid at least this deep. Where a level lies beneath the drive (a
   /// parking deck over the floor below), each driven-ground sample gets an underside vertex
@@ -414,8 +418,9 @@ class TrajectoryEvidence {
   /// points seen before against the new bodies, and records the positions of the rest.
   void dropContradicted(mesher::Keyframe& keyframe, const std::vector<Eigen::Isometry3d>& bodies_W_B,
                         std::size_t new_bodies);
-  /// Marks overridden the keyframes sent before `before_order` with a body containing one of the
-  /// points `keyframe` sees for the first time.
+  /// Marks overridden the keyframes with a body containing a point that `keyframe`'s sighting
+  /// brings to later_obstacle_min_views keyframes, sent before `before_order` as it stood at the
+  /// point's first sighting.
   void findLaterObstacles(const mesher::Keyframe& keyframe, std::uint64_t before_order);
   /// Overrides keyframe `id` (if not yet): no samples, no body view, and the same for the
   /// keyframe before it when `with_previous`.
