@@ -97,11 +97,12 @@ struct TrajectoryEvidence::BodyIndex {
   /// Keyframe ids under the horizontal cell of each of their station bases (cell: the footprint's
   /// circumradius, so a body holding a point has its base in the 3 x 3 cells around it).
   internal::HorizontalGrid<std::uint64_t> cells;
-  /// Every SLAM point seen: the drive order before its first sighting and the first
-  /// later_obstacle_min_views keyframes that saw it.
+  /// Every SLAM point seen: the drive order before its first sighting and, until
+  /// later_obstacle_min_views keyframes saw it (`counted`), those that did.
   struct Sightings {
     std::uint64_t before_order = 0;
     std::vector<std::uint64_t> keyframes;
+    bool counted = false;
   };
   std::unordered_map<std::uint64_t, Sightings> seen_points;
   /// The latest position of every SLAM point seen and not left out, and their ids by cell.
@@ -338,11 +339,16 @@ void TrajectoryEvidence::findLaterObstacles(const mesher::Keyframe& keyframe, st
     auto [seen, first] = bodies_->seen_points.try_emplace(o.point.value);
     BodyIndex::Sightings& sightings = seen->second;
     if (first) sightings.before_order = before_order;
-    std::vector<std::uint64_t>& by = sightings.keyframes;
+    if (sightings.counted) continue;
     // Only the sighting that brings the point to `views` keyframes (a keyframe sent again counts once).
-    if (by.size() >= views || std::find(by.begin(), by.end(), keyframe.id.value) != by.end()) continue;
-    by.push_back(keyframe.id.value);
-    if (by.size() < views) continue;
+    if (views > 1) {
+      std::vector<std::uint64_t>& by = sightings.keyframes;
+      if (std::find(by.begin(), by.end(), keyframe.id.value) != by.end()) continue;
+      by.push_back(keyframe.id.value);
+      if (by.size() < views) continue;
+      std::vector<std::uint64_t>().swap(by);
+    }
+    sightings.counted = true;
     bodies_->cells.around(bodies_->plane.project(o.position_W), [&](std::uint64_t id) {
       if (overridden_.count(id) != 0) return;
       const Pose& pose = poses_.at(id);
