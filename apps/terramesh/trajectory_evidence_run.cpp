@@ -114,7 +114,7 @@ std::string TrajectoryEvidenceRun::settings() const {
   text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe()
        << " station_spacing_m=" << station_spacing_m_ << " underside_depth_m=" << underside_depth_m_
        << " body_views=1 body_view_ends=2 later_obstacles=1 later_obstacle_views=" << later_obstacle_min_views_
-       << " turns=curve";
+       << " turns=curve start_body=footprint";
   return text.str();
 }
 

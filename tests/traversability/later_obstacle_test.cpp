@@ -86,6 +86,23 @@ TEST(DrivenSamplesTest, AKeyframeThatStartsADriveHasStationsBackToItsFootprintsR
   }
   EXPECT_GT(rear, 10.0);
   EXPECT_LT(rear, 13.0);
+
+  // Its body is the footprint it stood on (x 7.6 to 12.4), not one centred on each station (the
+  // last would reach back to x 5.2): a point 0.5 m up behind the rear edge (a wall behind the
+  // start) is kept, one over the footprint is the drive's to drop; neither overrides later.
+  TrajectoryEvidence start(car, Eigen::Vector3d::UnitZ(), 1.0, 1.65, Eigen::Vector3d::UnitZ(), {});
+  mesher::Keyframe seeing = cameraAt(1, {10, 0, 1.65});
+  seeing.observations = {observation(500, {7.0, 0, 0.5}), observation(501, {8.5, 0, 0.5})};
+  start.augment(seeing);
+  ASSERT_EQ(start.newlyContradicted().size(), 1u);
+  EXPECT_EQ(start.newlyContradicted().front().value, 501u);
+  start.augment(cameraAt(2, {13, 0, 1.65}));
+  for (std::uint64_t k : {3, 4}) {
+    mesher::Keyframe later = cameraAt(k, {20.0 + static_cast<double>(k), 0, 1.65});
+    later.observations = {observation(600, {6.8, 0.5, 0.5})};
+    start.augment(later);
+  }
+  EXPECT_EQ(start.overriddenCount(), 0u);
 }
 
 TEST(DrivenSamplesTest, PointsForgottenBeyondTheKeptKeyframesAreJudgedAgain) {

@@ -231,7 +231,7 @@ bool TrajectoryEvidence::onRecordedDrivenGround(const Eigen::Vector3d& p_W) cons
   bodies_->cells.around(bodies_->plane.project(p_W), [&](std::uint64_t id) {
     if (found || overridden_.count(id) != 0) return;
     const Pose& pose = poses_.at(id);
-    for (std::size_t station = 0; station <= pose.stations && !found; ++station) {
+    for (std::size_t station = 0; station <= pose.bodyStations() && !found; ++station) {
       found = onDrivenGround(baseAt(stationPose(pose, station)), p_W);
     }
   });
@@ -353,7 +353,7 @@ void TrajectoryEvidence::findLaterObstacles(const mesher::Keyframe& keyframe, st
       if (overridden_.count(id) != 0) return;
       const Pose& pose = poses_.at(id);
       if (pose.order >= sightings.before_order) return;
-      for (std::size_t station = 0; station <= pose.stations; ++station) {
+      for (std::size_t station = 0; station <= pose.bodyStations(); ++station) {
         if (!insideBody(baseAt(stationPose(pose, station)), o.position_W)) continue;
         overrideDrive(id, true);
         return;
@@ -438,7 +438,7 @@ mesher::Keyframe TrajectoryEvidence::augment(const mesher::Keyframe& keyframe) {
   pose.previous_id = previous ? previous->first.value : 0;
   // Where the body was: at this keyframe, at its stations, half way and at the one before it.
   std::vector<Eigen::Isometry3d> bodies{baseAt(pose)};
-  for (std::size_t station = 1; station <= pose.stations; ++station) {
+  for (std::size_t station = 1; station <= pose.bodyStations(); ++station) {
     bodies.push_back(baseAt(stationPose(pose, station)));
   }
   const std::size_t new_bodies = bodies.size();

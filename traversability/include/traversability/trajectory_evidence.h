@@ -387,6 +387,11 @@ class TrajectoryEvidence {
     /// Whether the way from the previous keyframe is a turn (stations_along_turns): stations on
     /// the curve; the sweep and the body views keep the rays that stay over it (seenWithinTurn).
     bool curved = false;
+    /// The stations at which the body stood whole (1..bodyStations()): those between keyframes.
+    /// At a drive's start the stations lie under the first footprint, back to its rear edge: the
+    /// keyframe's own body covers them, and a body centred on them would reach half a footprint
+    /// behind where the robot ever was.
+    std::size_t bodyStations() const { return has_previous ? stations : 0; }
   };
   std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
   /// The underside vertices of `samples` (underside_depth_m below each; none at 0).
