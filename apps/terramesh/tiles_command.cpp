@@ -84,7 +84,8 @@ int runTilesMerge(const std::vector<std::string>& args) {
   app.add_option("--overview-resolution-m", config.overview_resolution_m, "cell size of the overview Nav2 maps, metres")
       ->check(positiveNumber());
   app.add_flag("--check-borders", config.check_borders,
-               "also print how far the classes of neighbouring tiles agree over their overlap");
+               "also print how far the classes of neighbouring tiles agree over their overlap, and within half "
+               "the overlap of their border");
   app.add_option("--border-cell-m", config.border_cell_m, "cell size of that comparison, metres")->check(positiveNumber());
   std::optional<std::string> compare_with;
   app.add_option("--compare-with", compare_with,
@@ -110,7 +111,9 @@ int runTilesMerge(const std::vector<std::string>& args) {
     std::cout << "border " << border.tile_a << "|" << border.tile_b << ": classes agree on " << std::fixed
               << std::setprecision(4) << border.agreement.fraction() << " (free or not: "
               << border.agreement.freeFraction() << ") of " << std::setprecision(1)
-              << border.agreement.compared_m2 << " m2 compared in the overlap\n"
+              << border.agreement.compared_m2 << " m2 compared in the overlap; within " << 0.5 * report.overlap_m
+              << " m of the border: " << std::setprecision(4) << border.at_seam.fraction() << " (free or not: "
+              << border.at_seam.freeFraction() << ") of " << std::setprecision(1) << border.at_seam.compared_m2 << " m2\n"
               << std::defaultfloat << std::setprecision(6);
   }
   return kExitOk;

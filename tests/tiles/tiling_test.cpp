@@ -97,6 +97,16 @@ TEST(PlanTiles, GridFromTheExtentCornerAndOneOwnerEverywhere) {
   }
 }
 
+TEST(PlanTiles, TheSeamIsTheBandWithinHalfTheOverlapOfTheSharedEdge) {
+  const TilePlan plan = straightPlan();  // 40 m squares from (0, -3), overlap 5 m
+  const PlanRect seam = plan.seamBounds(0, 1);
+  EXPECT_DOUBLE_EQ(seam.min_x_m, 37.5);
+  EXPECT_DOUBLE_EQ(seam.max_x_m, 42.5);
+  EXPECT_DOUBLE_EQ(seam.min_y_m, -5.5);
+  EXPECT_DOUBLE_EQ(seam.max_y_m, 39.5);  // square tiles: y up to 37
+  EXPECT_TRUE(plan.seamBounds(0, 2).empty());  // 40 m apart: no seam
+}
+
 TEST(SelectTileInput, PointsInTheInputBoundsAndRaysCrossingThem) {
   const datasets::SlamStream stream = straightStream();
   const TilePlan plan = straightPlan();
@@ -120,6 +130,30 @@ TEST(SelectTileInput, PointsInTheInputBoundsAndRaysCrossingThem) {
   EXPECT_EQ(input.keyframes, keyframes.size());
   EXPECT_EQ(input.points, points.size());
   EXPECT_THROW(selectTileInput(stream, plan, 3), std::out_of_range);
+}
+
+TEST(SelectTileInput, EveryViewOfAPointItKeeps) {
+  // Point 300 lies beyond tile 1's input [35, 85) at x = 88. Keyframe 6 (x = 60) sees it through
+  // the input; keyframe 10 (x = 100) sees it from beyond, on a ray that never crosses the input.
+  datasets::SlamStream stream = straightStream();
+  const Eigen::Vector3d beyond(88, 0, 0);
+  std::get<Keyframe>(stream.events[6]).observations.push_back(PointObservation{PointId{300}, beyond});
+  std::get<Keyframe>(stream.events[10]).observations.push_back(PointObservation{PointId{300}, beyond});
+  const TileInput input = selectTileInput(stream, straightPlan(), 1);
+  std::size_t views = 0;
+  for (const datasets::StreamEvent& event : input.stream.events) {
+    const auto& keyframe = std::get<Keyframe>(event);
+    for (const PointObservation& observation : keyframe.observations) {
+      if (observation.point.value == 300) ++views;
+      // Keyframe 10 brings that view alone: its own points lie beyond the input, off its rays.
+      if (keyframe.id.value == 10) {
+        EXPECT_EQ(observation.point.value, 300u);
+      }
+    }
+  }
+  // Both views, so the tile's mesher counts them (min_views) as the whole stream's does.
+  EXPECT_EQ(views, 2u);
+  EXPECT_EQ(input.keyframes, 8u);  // 2..8 as before, and 10
 }
 
 TEST(SelectTileInput, RemovalsFollowTheTile) {

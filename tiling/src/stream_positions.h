@@ -31,8 +31,9 @@ struct TileMembers {
   std::unordered_set<std::uint64_t> points;
 };
 
-/// Whether a tile with input bounds `input_bounds` keeps the observation of `point` by `keyframe`
-/// (both in `positions`): the point lies in them or the ray from the camera to it crosses them.
+/// Whether the observation of `point` by `keyframe` (both in `positions`) makes the point a member
+/// of the tile with input bounds `input_bounds`: the point lies in them or the ray from the camera
+/// to it crosses them. (The tile then keeps every observation of the point.)
 bool keepsObservation(const StreamPositions& positions, const PlanRect& input_bounds, std::uint64_t keyframe,
                       std::uint64_t point);
 

@@ -45,6 +45,14 @@ TileMembers tileMembers(const datasets::SlamStream& stream, const StreamPosition
       }
     }
   }
+  // Every view of a member point: the mesher counts them (min_views) as the whole stream would.
+  for (const datasets::StreamEvent& event : stream.events) {
+    const auto* keyframe = std::get_if<mesher::Keyframe>(&event);
+    if (!keyframe) continue;
+    for (const mesher::PointObservation& observation : keyframe->observations) {
+      if (members.points.count(observation.point.value)) members.keyframes.insert(keyframe->id.value);
+    }
+  }
   return members;
 }
 
@@ -52,17 +60,16 @@ TileMembers tileMembers(const datasets::SlamStream& stream, const StreamPosition
 
 namespace {
 
-/// The event restricted to the tile's members; nullopt when nothing of it is left.
+/// The event restricted to the tile's members (a keyframe keeps its views of member points);
+/// nullopt when nothing of it is left.
 std::optional<datasets::StreamEvent> restrictEvent(const datasets::StreamEvent& event,
-                                                   const internal::TileMembers& members,
-                                                   const internal::StreamPositions& positions,
-                                                   const PlanRect& input_bounds) {
+                                                   const internal::TileMembers& members) {
   if (const auto* keyframe = std::get_if<mesher::Keyframe>(&event)) {
     if (!members.keyframes.count(keyframe->id.value)) return std::nullopt;
     mesher::Keyframe kept = *keyframe;
     kept.observations.clear();
     for (const mesher::PointObservation& observation : keyframe->observations) {
-      if (internal::keepsObservation(positions, input_bounds, keyframe->id.value, observation.point.value)) {
+      if (members.points.count(observation.point.value)) {
         kept.observations.push_back(observation);
       }
     }
@@ -102,7 +109,7 @@ TileInput selectTileInput(const datasets::SlamStream& stream, const TilePlan& pl
   input.stream.reader_notes = stream.reader_notes;
   input.stream.reader_warnings = stream.reader_warnings;
   for (const datasets::StreamEvent& event : stream.events) {
-    if (std::optional<datasets::StreamEvent> kept = restrictEvent(event, members, positions, input_bounds)) {
+    if (std::optional<datasets::StreamEvent> kept = restrictEvent(event, members)) {
       input.stream.events.push_back(std::move(*kept));
     }
   }

@@ -100,6 +100,8 @@ std::vector<BorderAgreement> compareBorders(const std::filesystem::path& plan_pa
       border.tile_b = b;
       border.region = plan.inputBounds(a).intersection(plan.inputBounds(b));
       border.agreement = classAgreement(map(a), map(b), border.region, config.levels, config.border_cell_m);
+      border.seam = plan.seamBounds(a, b);
+      border.at_seam = classAgreement(map(a), map(b), border.seam, config.levels, config.border_cell_m);
       borders.push_back(border);
     }
   }
@@ -130,6 +132,7 @@ MergeReport mergeTiles(const std::filesystem::path& plan_path, const MergeConfig
   const TilePlan plan = readTilePlan(plan_path);
   MergeReport report;
   report.tiles = plan.tiles.size();
+  report.overlap_m = plan.config.overlap_m;
   nlohmann::json tiles = nlohmann::json::array();
   const traversability::ExportReport overview = writeOverview(plan_path, plan, config, tiles, report);
   report.overview_levels = overview.levels;

@@ -22,12 +22,14 @@ struct TileInput {
 /// alike), in the plan:
 /// - an observation belongs to the tile if its point lies in G or its ray (camera centre to point)
 ///   crosses G: every ray that carves free space over G;
-/// - a point belongs if one of its observations does; a keyframe if its camera centre lies in G
-///   (its driven ground) or one of its observations belongs;
+/// - a point belongs if one of its observations does, and then every observation of it belongs
+///   too (so the tile's mesher counts its views, min_views, and follows its moves as the whole
+///   stream's does); a keyframe belongs if its camera centre lies in G (its driven ground) or one
+///   of its observations belongs;
 /// - a keyframe event keeps only the tile's observations (possibly none); a point removal keeps
 ///   the tile's points (dropped when none is left); a keyframe removal is kept for the tile's
 ///   keyframes.
-/// So two tiles receive the same points and rays over the overlap of their input bounds.
+/// So two tiles receive the same points, views and rays over the overlap of their input bounds.
 /// O(events + observations).
 TileInput selectTileInput(const datasets::SlamStream& stream, const TilePlan& plan, std::size_t tile);
 

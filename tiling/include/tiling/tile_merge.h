@@ -18,7 +18,8 @@ struct MergeConfig {
   /// Cell size of the overview Nav2 maps over the whole area, metres.
   double overview_resolution_m = 1.0;
   /// Also compare the classes of every two neighbouring tiles (sharing an edge) over the overlap
-  /// of their input bounds, on their maps meshed with the overlap (classAgreement).
+  /// of their input bounds, on their maps meshed with the overlap (classAgreement), and over its
+  /// half nearest the border (TilePlan::seamBounds).
   bool check_borders = false;
   /// Cell size of that comparison, metres.
   double border_cell_m = 0.1;
@@ -36,6 +37,8 @@ struct BorderAgreement {
   std::size_t tile_a = 0, tile_b = 0;
   PlanRect region;  ///< where both tiles have input
   ClassAgreement agreement;
+  PlanRect seam;  ///< TilePlan::seamBounds: the half of that overlap nearest the border
+  ClassAgreement at_seam;
 };
 
 struct MergeReport {
@@ -45,6 +48,7 @@ struct MergeReport {
   std::size_t faces = 0;  ///< faces owned by all tiles together
   std::size_t overview_levels = 0;
   std::vector<BorderAgreement> borders;  ///< with check_borders, by tile pair
+  double overlap_m = 0;                  ///< the plan's overlap (the seams are half as wide each side)
   /// With compare_with: the joined tiles (a) against that map (b) ...
   std::optional<ClassAgreement> compared;
   /// ... and the area that map covers where the tiles have no face (on its levels).

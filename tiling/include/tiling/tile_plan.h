@@ -75,6 +75,14 @@ struct TilePlan {
   traversability::MapPlane plane() const { return traversability::MapPlane::fromUp(up_W, metres_per_unit); }
   /// The input bounds of tile `i`: its bounds grown by the overlap.
   PlanRect inputBounds(std::size_t i) const { return tiles.at(i).bounds.grown(config.overlap_m); }
+  /// The seam between tiles `a` and `b`: their bounds each grown by half the overlap, intersected.
+  /// For two tiles sharing an edge, the band within overlap_m / 2 of that edge (as long as it,
+  /// plus overlap_m / 2 at either end): where the faces each owns meet the other's, and each
+  /// tile's layers still see overlap_m / 2 of surface beyond its border. Empty for tiles farther
+  /// apart than the overlap.
+  PlanRect seamBounds(std::size_t a, std::size_t b) const {
+    return tiles.at(a).bounds.grown(0.5 * config.overlap_m).intersection(tiles.at(b).bounds.grown(0.5 * config.overlap_m));
+  }
   /// The tile that owns a plan position: the one whose bounds hold it; a position in no tile's
   /// bounds (closing geometry beyond the extent, an empty cell) goes to the nearest tile, the
   /// lowest index on ties. Every position has exactly one owner. O(1), O(tiles) outside.
