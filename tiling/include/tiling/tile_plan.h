@@ -81,7 +81,8 @@ struct TilePlan {
   /// tile's layers still see overlap_m / 2 of surface beyond its border. Empty for tiles farther
   /// apart than the overlap.
   PlanRect seamBounds(std::size_t a, std::size_t b) const {
-    return tiles.at(a).bounds.grown(0.5 * config.overlap_m).intersection(tiles.at(b).bounds.grown(0.5 * config.overlap_m));
+    const double half_m = 0.5 * config.overlap_m;
+    return tiles.at(a).bounds.grown(half_m).intersection(tiles.at(b).bounds.grown(half_m));
   }
   /// The tile that owns a plan position: the one whose bounds hold it; a position in no tile's
   /// bounds (closing geometry beyond the extent, an empty cell) goes to the nearest tile, the
