@@ -70,7 +70,8 @@ std::string MeshTile::describe() const {
   std::ostringstream out;
   out << "tile: " << index_ << " (" << tile.name << ") of " << plan_.tiles.size() << " in " << plan_path_.string()
       << ", bounds x [" << tile.bounds.min_x_m << ", " << tile.bounds.max_x_m << ") y [" << tile.bounds.min_y_m << ", "
-      << tile.bounds.max_y_m << ") m, overlap " << plan_.config.overlap_m << " m; input "
+      << tile.bounds.max_y_m << ") m, overlap " << plan_.config.overlap_m << " m, guard " << plan_.config.guard_m
+      << " m; input "
       << (input_ ? input_->keyframes : 0) << " keyframes, " << (input_ ? input_->points : 0) << " points, "
       << (input_ ? input_->stream.events.size() : 0) << " events";
   return out.str();

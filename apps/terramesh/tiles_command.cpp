@@ -35,7 +35,12 @@ int runTilesPlan(const std::vector<std::string>& args) {
   app.add_option("INPUT", o.input_path, "SLAM stream (any format mesh reads)")->required();
   app.add_option("-o,--output", o.plan_path, "plan file (JSON); the tiles' outputs go beside it")->option_text("PLAN");
   app.add_option("--tile-m", o.tiling.tile_m, "side of a tile in the map plane, metres")->check(positiveNumber());
-  app.add_option("--overlap-m", o.tiling.overlap_m, "how far beyond its bounds a tile reads the stream, metres")
+  app.add_option("--overlap-m", o.tiling.overlap_m,
+                 "how far beyond its bounds a tile's map reaches (where neighbours' maps meet), metres")
+      ->check(nonNegativeNumber());
+  app.add_option("--guard-m", o.tiling.guard_m,
+                 "how much farther than the overlap a tile also reads the stream, so that its input's edge "
+                 "leaves the overlap's surface as a run on the whole stream meshes it, metres")
       ->check(nonNegativeNumber());
   app.add_option("--robot", o.robot, "the robot profile the tiles will be meshed with (its gravity gives up)")
       ->option_text("YAML");
@@ -64,7 +69,8 @@ int runTilesPlan(const std::vector<std::string>& args) {
   tiling::writeTilePlan(plan_path, plan);
   if (o.quiet) return kExitOk;
   std::cout << "plan: " << plan_path.string() << ", " << plan.tiles.size() << " tile(s) of " << o.tiling.tile_m
-            << " m with " << o.tiling.overlap_m << " m overlap; up " << up->up_W.transpose() << " (" << up->source << ")\n";
+            << " m with " << o.tiling.overlap_m << " m overlap and " << o.tiling.guard_m << " m guard; up "
+            << up->up_W.transpose() << " (" << up->source << ")\n";
   for (const tiling::TileSpec& tile : plan.tiles) {
     std::cout << "  " << tile.index << " " << tile.name << ": x [" << tile.bounds.min_x_m << ", " << tile.bounds.max_x_m
               << ") y [" << tile.bounds.min_y_m << ", " << tile.bounds.max_y_m << ") m, " << tile.keyframes

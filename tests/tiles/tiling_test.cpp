@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <limits>
 #include <set>
 
 #include "common/input_error.h"
@@ -41,10 +42,11 @@ datasets::SlamStream straightStream() {
   return stream;
 }
 
-TilePlan straightPlan(double tile_m = 40, double overlap_m = 5) {
+TilePlan straightPlan(double tile_m = 40, double overlap_m = 5, double guard_m = 0) {
   TilingConfig config;
   config.tile_m = tile_m;
   config.overlap_m = overlap_m;
+  config.guard_m = guard_m;
   return planTiles(straightStream(), Eigen::Vector3d::UnitZ(), 1.0, config);
 }
 
@@ -53,12 +55,14 @@ TEST(TilingConfig, ValidateListsEveryProblem) {
   EXPECT_NO_THROW(config.validate());
   config.tile_m = 0;
   config.overlap_m = -1;
+  config.guard_m = std::numeric_limits<double>::quiet_NaN();
   try {
     config.validate();
     FAIL() << "no throw";
   } catch (const std::invalid_argument& error) {
     EXPECT_NE(std::string(error.what()).find("tile_m"), std::string::npos);
     EXPECT_NE(std::string(error.what()).find("overlap_m"), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find("guard_m"), std::string::npos);
   }
 }
 
@@ -130,6 +134,25 @@ TEST(SelectTileInput, PointsInTheInputBoundsAndRaysCrossingThem) {
   EXPECT_EQ(input.keyframes, keyframes.size());
   EXPECT_EQ(input.points, points.size());
   EXPECT_THROW(selectTileInput(stream, plan, 3), std::out_of_range);
+}
+
+TEST(SelectTileInput, TheGuardWidensTheInputNotTheOverlap) {
+  const datasets::SlamStream stream = straightStream();
+  const TilePlan plan = straightPlan(40, 5, 10);  // tile 1: x in [40, 80), overlap [35, 85), input [25, 95)
+  EXPECT_DOUBLE_EQ(plan.overlapBounds(1).min_x_m, 35);
+  EXPECT_DOUBLE_EQ(plan.overlapBounds(1).max_x_m, 85);
+  EXPECT_DOUBLE_EQ(plan.inputBounds(1).min_x_m, 25);
+  EXPECT_DOUBLE_EQ(plan.inputBounds(1).max_x_m, 95);
+  const TileInput input = selectTileInput(stream, plan, 1);
+  std::set<std::uint64_t> keyframes;
+  for (const datasets::StreamEvent& event : input.stream.events) keyframes.insert(std::get<Keyframe>(event).id.value);
+  // Without the guard 2..8 (the test above); now the camera at 90 too, and the one at 10 (its
+  // ray to 25 reaches the input).
+  EXPECT_EQ(keyframes, (std::set<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  // The seam stays within half the overlap of the border.
+  EXPECT_DOUBLE_EQ(plan.seamBounds(0, 1).min_x_m, 37.5);
+  EXPECT_DOUBLE_EQ(plan.seamBounds(0, 1).max_x_m, 42.5);
+  EXPECT_EQ(plan.tiles[1].keyframes, keyframes.size());
 }
 
 TEST(SelectTileInput, EveryViewOfAPointItKeeps) {
@@ -254,6 +277,8 @@ TEST(TileFiles, PlanRoundTripAndFieldErrors) {
   EXPECT_EQ(read.tiles[2].points, plan.tiles[2].points);
   EXPECT_EQ(read.extent.max_x_m, plan.extent.max_x_m);
   EXPECT_EQ(read.up_W, plan.up_W);
+  EXPECT_EQ(read.config.overlap_m, plan.config.overlap_m);
+  EXPECT_EQ(read.config.guard_m, plan.config.guard_m);
   // The same plan again writes the same bytes.
   writeTilePlan(dir / "again.json", read);
   std::ifstream first(dir / "plan.json"), second(dir / "again.json");

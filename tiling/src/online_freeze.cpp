@@ -147,6 +147,7 @@ TilePlan OnlineFreeze::plan(const Eigen::Vector3d& up_W, double metres_per_unit,
   TilePlan plan;
   plan.config.tile_m = config_.tile_m;
   plan.config.overlap_m = 0;
+  plan.config.guard_m = 0;
   plan.up_W = up_W;
   plan.metres_per_unit = metres_per_unit;
   plan.stream_events = stream_events;

@@ -51,9 +51,10 @@ void writeTilePlan(const std::filesystem::path& path, const TilePlan& plan) {
   nlohmann::json extent = rectJson(plan.extent);
   const nlohmann::json root = {
       {"format", kPlanFormat},
-      {"version", 1},
+      {"version", 2},
       {"tile_m", plan.config.tile_m},
       {"overlap_m", plan.config.overlap_m},
+      {"guard_m", plan.config.guard_m},
       {"up", {plan.up_W.x(), plan.up_W.y(), plan.up_W.z()}},
       {"metres_per_unit", plan.metres_per_unit},
       {"stream", {{"events", plan.stream_events}, {"keyframe_events", plan.stream_keyframe_events}}},
@@ -65,14 +66,15 @@ void writeTilePlan(const std::filesystem::path& path, const TilePlan& plan) {
 TilePlan readTilePlan(const std::filesystem::path& path) {
   const nlohmann::json root = json::readJsonFile(path, "a tile plan written by terramesh tiles plan");
   const json::FieldReader json(path.string());
-  json.header(root, kPlanFormat, 1);
+  json.header(root, kPlanFormat, 2);
   TilePlan plan;
   plan.config.tile_m = json.number(root, "tile_m", "");
   plan.config.overlap_m = json.number(root, "overlap_m", "");
+  plan.config.guard_m = json.number(root, "guard_m", "");
   try {
     plan.config.validate();
   } catch (const std::invalid_argument& error) {
-    json.fail("tile_m, overlap_m", error.what());
+    json.fail("tile_m, overlap_m, guard_m", error.what());
   }
   plan.up_W = internal::readDirection(json, root, "up", "");
   plan.metres_per_unit = json.number(root, "metres_per_unit", "");

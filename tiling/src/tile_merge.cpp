@@ -98,7 +98,7 @@ std::vector<BorderAgreement> compareBorders(const std::filesystem::path& plan_pa
       BorderAgreement border;
       border.tile_a = a;
       border.tile_b = b;
-      border.region = plan.inputBounds(a).intersection(plan.inputBounds(b));
+      border.region = plan.overlapBounds(a).intersection(plan.overlapBounds(b));
       border.agreement = classAgreement(map(a), map(b), border.region, config.levels, config.border_cell_m);
       border.seam = plan.seamBounds(a, b);
       border.at_seam = classAgreement(map(a), map(b), border.seam, config.levels, config.border_cell_m);

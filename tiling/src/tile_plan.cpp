@@ -44,6 +44,7 @@ void TilingConfig::validate() const {
   const auto add = [&problems](const std::string& problem) { problems += (problems.empty() ? "" : "; ") + problem; };
   if (!finitePositive(tile_m)) add("tile_m: " + std::to_string(tile_m) + " (expected > 0)");
   if (!std::isfinite(overlap_m) || overlap_m < 0) add("overlap_m: " + std::to_string(overlap_m) + " (expected >= 0)");
+  if (!std::isfinite(guard_m) || guard_m < 0) add("guard_m: " + std::to_string(guard_m) + " (expected >= 0)");
   if (!problems.empty()) throw std::invalid_argument("TilingConfig: " + problems);
 }
 
@@ -132,7 +133,7 @@ TilePlan planTiles(const datasets::SlamStream& stream, const Eigen::Vector3d& up
       tile.bounds.max_y_m = tile.bounds.min_y_m + config.tile_m;
       if (!holdsAny(positions, tile.bounds)) continue;
       const internal::TileMembers members =
-          internal::tileMembers(stream, positions, tile.bounds.grown(config.overlap_m));
+          internal::tileMembers(stream, positions, tile.bounds.grown(config.overlap_m + config.guard_m));
       tile.index = plan.tiles.size();
       tile.name = tileName(tile.index);
       tile.keyframes = members.keyframes.size();

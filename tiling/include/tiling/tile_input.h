@@ -29,7 +29,8 @@ struct TileInput {
 /// - a keyframe event keeps only the tile's observations (possibly none); a point removal keeps
 ///   the tile's points (dropped when none is left); a keyframe removal is kept for the tile's
 ///   keyframes.
-/// So two tiles receive the same points, views and rays over the overlap of their input bounds.
+/// So two tiles receive the same points, views and rays over the overlap of their input bounds,
+/// which holds the overlap of their maps (TilePlan::overlapBounds) with a guard band around it.
 /// O(events + observations).
 TileInput selectTileInput(const datasets::SlamStream& stream, const TilePlan& plan, std::size_t tile);
 

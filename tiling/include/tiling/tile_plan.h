@@ -16,9 +16,13 @@ namespace terramesh::tiling {
 struct TilingConfig {
   /// Side of a tile in the map plane, metres.
   double tile_m = 200.0;
-  /// How far beyond its own bounds a tile reads points and keyframes, metres: the surface and
-  /// layers near a border see what lies across it.
+  /// How far beyond its own bounds a tile's map reaches, metres: the surface and layers near a
+  /// border see what lies across it, and two neighbours' maps meet over this band.
   double overlap_m = 20.0;
+  /// How much farther than the overlap a tile also reads points and keyframes, metres. The
+  /// incremental mesher carves the free space near the edge of its input otherwise than a run
+  /// that sees beyond it, so the guard keeps that edge away from the overlap.
+  double guard_m = 40.0;
   /// @throw std::invalid_argument listing every out-of-range field.
   void validate() const;
 };
@@ -73,8 +77,11 @@ struct TilePlan {
   std::vector<TileSpec> tiles;
 
   traversability::MapPlane plane() const { return traversability::MapPlane::fromUp(up_W, metres_per_unit); }
-  /// The input bounds of tile `i`: its bounds grown by the overlap.
-  PlanRect inputBounds(std::size_t i) const { return tiles.at(i).bounds.grown(config.overlap_m); }
+  /// The overlap bounds of tile `i`: its bounds grown by the overlap (where its map meets its
+  /// neighbours').
+  PlanRect overlapBounds(std::size_t i) const { return tiles.at(i).bounds.grown(config.overlap_m); }
+  /// The input bounds of tile `i`: its bounds grown by the overlap and the guard.
+  PlanRect inputBounds(std::size_t i) const { return tiles.at(i).bounds.grown(config.overlap_m + config.guard_m); }
   /// The seam between tiles `a` and `b`: their bounds each grown by half the overlap, intersected.
   /// For two tiles sharing an edge, the band within overlap_m / 2 of that edge (as long as it,
   /// plus overlap_m / 2 at either end): where the faces each owns meet the other's, and each
