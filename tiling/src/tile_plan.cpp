@@ -132,13 +132,12 @@ TilePlan planTiles(const datasets::SlamStream& stream, const Eigen::Vector3d& up
       tile.bounds.max_x_m = tile.bounds.min_x_m + config.tile_m;
       tile.bounds.max_y_m = tile.bounds.min_y_m + config.tile_m;
       if (!holdsAny(positions, tile.bounds)) continue;
-      const internal::TileMembers members =
-          internal::tileMembers(stream, positions, tile.bounds.grown(config.overlap_m + config.guard_m));
       tile.index = plan.tiles.size();
       tile.name = tileName(tile.index);
-      tile.keyframes = members.keyframes.size();
-      tile.points = members.points.size();
       plan.tiles.push_back(tile);
+      const internal::TileMembers members = internal::tileMembers(stream, positions, plan.inputBounds(tile.index));
+      plan.tiles.back().keyframes = members.keyframes.size();
+      plan.tiles.back().points = members.points.size();
     }
   }
   return plan;
