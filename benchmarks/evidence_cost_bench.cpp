@@ -79,7 +79,7 @@ struct Times {
 Times run(const bench::BenchStream& s, const Setup& setup, bool with_evidence) {
   mesher::MesherConfig config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
   config.metres_per_unit = s.stream.metres_per_unit;
-  if (s.stream.recommended_min_views > 0) config.min_views = s.stream.recommended_min_views;
+  datasets::applyMeshingAdvice(s.stream, config);
   std::optional<traversability::TrajectoryEvidence> evidence;
   if (with_evidence) {
     evidence.emplace(setup.profile, s.up_W, s.stream.metres_per_unit, setup.decision.sensor_height_m, setup.forward_S,

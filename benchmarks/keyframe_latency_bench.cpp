@@ -86,7 +86,7 @@ int run(const Options& options) {
   const datasets::SlamStream stream = datasets::readAnyStream(options.stream);
   mesher::MesherConfig config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
   config.metres_per_unit = stream.metres_per_unit;
-  if (stream.recommended_min_views > 0) config.min_views = stream.recommended_min_views;
+  datasets::applyMeshingAdvice(stream, config);
   if (options.enclosing_radius_cells > 0) config.enclosing_radius_cells = options.enclosing_radius_cells;
   if (options.handle_min_rays >= 0) config.handle_min_rays = options.handle_min_rays;
   mesher::Mesher mesher(config);

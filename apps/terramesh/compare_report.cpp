@@ -23,6 +23,9 @@ std::string cell(bool measured, double value, int digits) { return measured ? fi
 
 double mb(std::uintmax_t bytes) { return static_cast<double>(bytes) / 1e6; }
 
+/// The reports' accuracy and completeness threshold.
+constexpr std::size_t k25cm = evaluation::DistanceStats::kWithin25cm;
+
 }  // namespace
 
 void writeCompareCsv(const std::filesystem::path& path, const std::vector<CompareRow>& rows) {
@@ -48,8 +51,9 @@ void writeCompareCsv(const std::filesystem::path& path, const std::vector<Compar
         << (r.has_geometry ? g.measured_faces : 0) << ',';
     if (r.has_geometry) {
       csv << fixed(g.depth.coverage(), 4) << ',' << fixed(g.depth.median_abs_m, 4) << ','
-          << fixed(g.accuracy.median_m, 4) << ',' << fixed(g.accuracy.within[1], 4) << ','
-          << fixed(g.completeness.median_m, 4) << ',' << fixed(g.completeness.within[1], 4) << ',';
+          << fixed(g.accuracy.median_m, 4) << ',' << fixed(g.accuracy.within[k25cm], 4) << ','
+          << fixed(g.completeness.median_m, 4) << ',' << fixed(g.completeness.within[k25cm], 4)
+          << ',';
     } else {
       csv << "nan,nan,nan,nan,nan,nan,";
     }
@@ -141,9 +145,10 @@ void tableRow(std::ostringstream& md, const CompareRow& r) {
   md << "| " << r.spec.name << " | " << fixed(r.built.build_s + r.built.to_surface_s, 2) << " | "
      << fixed(r.built.peak_rss_mb, 0) << " | " << fixed(r.built.extra_peak_mb, 0) << " | "
      << fixed(mb(r.built.size_bytes), 2) << " | " << r.built.surface.faces.size() << " | "
-     << cell(r.has_geometry, g.accuracy.median_m, 3) << " | " << cell(r.has_geometry, g.accuracy.within[1], 3)
+     << cell(r.has_geometry, g.accuracy.median_m, 3) << " | " << cell(r.has_geometry, g.accuracy.within[k25cm], 3)
      << " | " << cell(r.has_geometry, g.completeness.median_m, 3) << " | "
-     << cell(r.has_geometry, g.completeness.within[1], 3) << " | " << cell(r.has_geometry, g.depth.coverage(), 3)
+     << cell(r.has_geometry, g.completeness.within[k25cm], 3) << " | "
+     << cell(r.has_geometry, g.depth.coverage(), 3)
      << " | " << m.non_manifold_edges << " / " << m.non_manifold_vertices << " | " << m.boundary_loops << " | "
      << m.components << " | " << m.genus << " | " << cell(r.has_traversability, r.traversability.f1, 3) << " | "
      << cell(r.has_traversability, r.traversability.coverage, 3) << " | ";

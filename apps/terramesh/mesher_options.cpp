@@ -94,7 +94,9 @@ void addMesherOptions(CLI::App& app, MesherOptions& options) {
                  "without --metres-per-unit; else 40)")
       ->option_text("D|auto")
       ->check(CLI::Number | CLI::IsMember({"auto"}));
-  app.add_option("--steiner-step-m", options.steiner_step_m, "spacing of the Steiner grid");
+  app.add_option("--steiner-step-m", options.steiner_step_m,
+                 "spacing of the Steiner grid (default 10, or what the stream advises: 2 for LiDAR)")
+      ->option_text("M");
   app.add_option("--free-threshold", options.free_threshold,
                  "a cell is free space when its weight exceeds this (default 20; 0 in litvinov13)")
       ->option_text("T");
@@ -157,6 +159,16 @@ std::vector<std::string> describeInferredSettings(const MesherOptions& options, 
     views += ", the mesher's default: the input advises none (--min-views overrides)";
   }
   lines.push_back(views);
+  std::ostringstream step;
+  step << "Steiner lattice: " << config.steiner_step_m << " m";
+  if (options.steiner_step_m) {
+    step << ", from --steiner-step-m";
+  } else if (stream.recommended_steiner_step_m > 0) {
+    step << ", as the input advises (--steiner-step-m overrides)";
+  } else {
+    step << ", the mesher's default: the input advises none (--steiner-step-m overrides)";
+  }
+  lines.push_back(step.str());
   const Eigen::Vector3d& up = stream.sensor_up_S;
   std::ostringstream axis;
   // (+ 0.0: no "-0" in the text.)
@@ -176,11 +188,8 @@ mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::Mesh
   config.metres_per_unit = options.metres_per_unit ? *options.metres_per_unit
                            : stream.scale_known    ? stream.metres_per_unit
                                                    : 1.0;
-  if (options.min_views) {
-    config.min_views = *options.min_views;
-  } else if (stream.recommended_min_views > 0) {
-    config.min_views = stream.recommended_min_views;
-  }
+  datasets::applyMeshingAdvice(stream, config);
+  if (options.min_views) config.min_views = *options.min_views;
   if (autoMaxDistance(options, stream)) {
     const double distance_units =
         datasets::observationDistanceQuantile(stream, kAutoMaxDistanceQuantile);
@@ -191,7 +200,7 @@ mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::Mesh
   } else if (options.max_distance_m) {
     config.max_camera_distance_m = std::stod(*options.max_distance_m);
   }
-  config.steiner_step_m = options.steiner_step_m;
+  if (options.steiner_step_m) config.steiner_step_m = *options.steiner_step_m;
   if (options.free_threshold) config.free_threshold = *options.free_threshold;
   config.move_threshold_m = options.move_threshold_m;
   if (options.point_policy) {

@@ -16,7 +16,7 @@ struct MesherOptions {
   std::optional<double> metres_per_unit;
   std::optional<int> min_views;
   std::optional<std::string> max_distance_m;  ///< metres, or "auto"
-  double steiner_step_m = 10;
+  std::optional<double> steiner_step_m;
   std::optional<double> free_threshold;
   double move_threshold_m = 0;
   std::optional<std::string> point_policy;
@@ -51,7 +51,8 @@ mesher::MesherConfig mesherConfigFrom(const MesherOptions& options, mesher::Mesh
                                       const datasets::SlamStream& stream);
 
 /// What mesherConfigFrom took from the data rather than from a flag, one sentence each, with the
-/// flag that overrides it: the scale, the views a point needs, the sensor's up axis.
+/// flag that overrides it: the scale, the views a point needs, the Steiner lattice's spacing, the
+/// sensor's up axis.
 std::vector<std::string> describeInferredSettings(const MesherOptions& options, const datasets::SlamStream& stream,
                                                   const mesher::MesherConfig& config);
 

@@ -289,6 +289,7 @@ SlamStream readKittiOdometry(const std::filesystem::path& sequence_directory,
   stream.metres_per_unit = 1.0;
   stream.scale_known = true;
   stream.recommended_min_views = 1;
+  stream.recommended_steiner_step_m = kLidarSteinerStepM;
   stream.sensor_up_S = Eigen::Vector3d::UnitZ();  // Velodyne: x forward, y left, z up
   stream.description = sequence_directory.string() + " (KITTI odometry Velodyne, " +
                        std::to_string(scans.size()) + " scans)";

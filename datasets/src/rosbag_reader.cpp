@@ -147,6 +147,7 @@ void describeClouds(const CloudsRead& read, const RosbagOptions& options, SlamSt
     stream.reader_notes.push_back("point ids from the field \"" + options.point_id_field + "\"");
   } else {
     stream.recommended_min_views = 1;
+    stream.recommended_steiner_step_m = kLidarSteinerStepM;
     stream.reader_notes.push_back(
         "no field \"" + options.point_id_field +
         (options.lidar.voxel_size_m > 0 ? "\": untracked LiDAR returns, min_views 1 advised"

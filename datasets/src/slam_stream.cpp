@@ -20,6 +20,11 @@ std::size_t SlamStream::keyframeEventCount() const {
   return count;
 }
 
+void applyMeshingAdvice(const SlamStream& stream, mesher::MesherConfig& config) {
+  if (stream.recommended_min_views > 0) config.min_views = stream.recommended_min_views;
+  if (stream.recommended_steiner_step_m > 0) config.steiner_step_m = stream.recommended_steiner_step_m;
+}
+
 double observationDistanceQuantile(const SlamStream& stream, double quantile) {
   if (!(quantile >= 0.0 && quantile <= 1.0)) {
     throw std::invalid_argument("observationDistanceQuantile: quantile must be within [0, 1]");

@@ -48,6 +48,11 @@ class StreamFileParser {
         const std::uint64_t views = lines_.integer(tokens[1], "min_views");
         if (views < 1 || views > 1000) lines_.fail("min_views must be within 1..1000");
         stream.recommended_min_views = static_cast<int>(views);
+      } else if (directive == "steiner_step_m") {
+        lines_.expectCount(tokens, 2, "steiner_step_m M");
+        const double step = lines_.real(tokens[1], "steiner_step_m");
+        if (!(step > 0) || !std::isfinite(step)) lines_.fail("steiner_step_m must be positive and finite");
+        stream.recommended_steiner_step_m = step;
       } else if (directive == "sensor_up") {
         lines_.expectCount(tokens, 4, "sensor_up X Y Z");
         Eigen::Vector3d up;
@@ -159,6 +164,11 @@ void writeStreamFile(const std::filesystem::path& path, const SlamStream& stream
     // What the source advises for meshing, so that meshing the saved stream repeats the run.
     if (stream.recommend_auto_max_distance) out << "max_camera_distance auto\n";
     if (stream.recommended_min_views > 0) out << "min_views " << stream.recommended_min_views << '\n';
+    if (stream.recommended_steiner_step_m > 0) {
+      out << "steiner_step_m ";
+      writeReal(out, stream.recommended_steiner_step_m);
+      out << '\n';
+    }
     if (stream.sensor_up_S != -Eigen::Vector3d::UnitY()) {
       out << "sensor_up";
       for (int k = 0; k < 3; ++k) {

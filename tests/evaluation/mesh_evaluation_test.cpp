@@ -108,8 +108,8 @@ TEST(SurfaceDistances, OffsetPlaneSamplesAreAtTheOffset) {
   EXPECT_EQ(stats.matched, 2000u);
   EXPECT_NEAR(stats.mean_m, 0.2, 1e-9);
   EXPECT_NEAR(stats.p90_m, 0.2, 1e-9);
-  EXPECT_DOUBLE_EQ(stats.within[0], 0.0);  // 0.1 m
-  EXPECT_DOUBLE_EQ(stats.within[1], 1.0);  // 0.25 m
+  EXPECT_DOUBLE_EQ(stats.within[DistanceStats::kWithin10cm], 0.0);  // 0.1 m
+  EXPECT_DOUBLE_EQ(stats.within[DistanceStats::kWithin25cm], 1.0);  // 0.25 m
 }
 
 TEST(SurfaceDistances, SamplingIsByAreaDeterministicAndSkipsSteinerFaces) {
@@ -135,8 +135,10 @@ TEST(SurfaceDistances, DistancesToPointsCountUnmatchedSamples) {
   const DistanceStats stats = distancesToPoints(samples, index, 1.0);
   EXPECT_EQ(stats.samples, 3u);
   EXPECT_EQ(stats.matched, 2u);
-  EXPECT_NEAR(stats.within[2], 2.0 / 3.0, 1e-12);  // within 0.5 m: the far sample counts as beyond
-  EXPECT_NEAR(stats.within[0], 1.0 / 3.0, 1e-12);  // within 0.1 m: only the in-plane one
+  // Within 0.5 m: the far sample counts as beyond; within 0.2 m and 0.1 m only the in-plane one.
+  EXPECT_NEAR(stats.within[DistanceStats::kWithin50cm], 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(stats.within[DistanceStats::kWithin20cm], 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(stats.within[DistanceStats::kWithin10cm], 1.0 / 3.0, 1e-12);
 }
 
 TEST(PointCloudIndex, NearestMatchesBruteForce) {

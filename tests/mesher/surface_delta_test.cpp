@@ -254,7 +254,7 @@ AxisAlignedBox boundsOf(const std::vector<datasets::StreamEvent>& events) {
 
 void replayStream(const datasets::SlamStream& stream, MesherConfig config) {
   if (!config.incremental_steiner_grid) config.fixed_grid_bounds_W = boundsOf(stream.events);
-  if (stream.recommended_min_views > 0) config.min_views = stream.recommended_min_views;
+  datasets::applyMeshingAdvice(stream, config);
   Mesher mesher(config);
   DeltaChecker checker(mesher);
   for (std::size_t i = 0; i < stream.events.size(); ++i) {

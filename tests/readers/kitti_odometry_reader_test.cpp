@@ -81,6 +81,7 @@ TEST(KittiOdometryReader, ReadsEveryReturnOfTheTenScans) {
   // Every return has its own point id.
   EXPECT_EQ(countStream(stream), (StreamCounts{10, 10, 1231779, 1231779}));
   EXPECT_EQ(stream.recommended_min_views, 1);
+  EXPECT_EQ(stream.recommended_steiner_step_m, datasets::kLidarSteinerStepM);
   EXPECT_EQ(stream.sensor_up_S, Eigen::Vector3d::UnitZ());
   EXPECT_TRUE(stream.scale_known);
   EXPECT_EQ(stream.metres_per_unit, 1.0);

@@ -3,9 +3,11 @@
 // so that `terramesh mesh` on the saved stream makes the same choices as on the original model.
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 #include "datasets/colmap_reader.h"
+#include "datasets/lidar_scan_filter.h"
 #include "datasets/stream_format.h"
 #include "datasets/stream_reader.h"
 #include "reader_test_util.h"
@@ -39,10 +41,12 @@ TEST(StreamAdvice, LidarAdviceAndSensorUpSurvive) {
   stream.events.emplace_back(keyframe);
   stream.scale_known = true;
   stream.recommended_min_views = 1;
+  stream.recommended_steiner_step_m = datasets::kLidarSteinerStepM;
   stream.sensor_up_S = Eigen::Vector3d::UnitZ();
   datasets::writeStreamFile(dir / "lidar.tmstream", stream);
   const datasets::SlamStream saved = datasets::readStreamFile(dir / "lidar.tmstream");
   EXPECT_EQ(saved.recommended_min_views, 1);
+  EXPECT_EQ(saved.recommended_steiner_step_m, datasets::kLidarSteinerStepM);
   EXPECT_FALSE(saved.recommend_auto_max_distance);
   EXPECT_EQ(saved.sensor_up_S, Eigen::Vector3d::UnitZ());
 }
@@ -53,6 +57,7 @@ TEST(StreamAdvice, StreamsWithoutAdviceStayAsTheyWere) {
   const datasets::SlamStream stream = datasets::readStreamFile(dir / "plain.tmstream");
   EXPECT_FALSE(stream.recommend_auto_max_distance);
   EXPECT_EQ(stream.recommended_min_views, 0);
+  EXPECT_EQ(stream.recommended_steiner_step_m, 0.0);
   EXPECT_EQ(stream.sensor_up_S, -Eigen::Vector3d::UnitY());
   datasets::writeStreamFile(dir / "again.tmstream", stream);
   const datasets::SlamStream again = datasets::readStreamFile(dir / "again.tmstream");
@@ -71,6 +76,26 @@ TEST(StreamAdvice, BadAdviceNamesTheLine) {
   writeFile(dir / "c.tmstream", "terramesh_stream 1\nsensor_up 0 0 0\n");
   expectErrorAt(expectInputError([&] { datasets::readStreamFile(dir / "c.tmstream"); }), dir / "c.tmstream",
                 "line 2", "sensor_up");
+  for (const char* step : {"0", "-2", "inf"}) {
+    writeFile(dir / "d.tmstream", std::string("terramesh_stream 1\nsteiner_step_m ") + step + "\n");
+    expectErrorAt(expectInputError([&] { datasets::readStreamFile(dir / "d.tmstream"); }), dir / "d.tmstream",
+                  "line 2", "steiner_step_m");
+  }
+}
+
+TEST(StreamAdvice, MeshingAdviceSetsOnlyWhatTheStreamAdvises) {
+  mesher::MesherConfig config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
+  const mesher::MesherConfig defaults = config;
+  datasets::applyMeshingAdvice(datasets::SlamStream{}, config);
+  EXPECT_EQ(config.min_views, defaults.min_views);
+  EXPECT_EQ(config.steiner_step_m, defaults.steiner_step_m);
+  datasets::SlamStream lidar;
+  lidar.recommended_min_views = 1;
+  lidar.recommended_steiner_step_m = datasets::kLidarSteinerStepM;
+  datasets::applyMeshingAdvice(lidar, config);
+  EXPECT_EQ(config.min_views, 1);
+  EXPECT_EQ(config.steiner_step_m, datasets::kLidarSteinerStepM);
+  EXPECT_NE(defaults.steiner_step_m, datasets::kLidarSteinerStepM);
 }
 
 TEST(StreamAdvice, LatestPosesAndEstimatesFollowCorrectionsAndRemovals) {

@@ -134,12 +134,33 @@ class LidarTest(TempDirCase):
             self.assertEqual(len(f.readline().split()), 13, "Tr: and 12 numbers")
 
         mesh_out = self.out("mesh")
-        result = run("mesh", sequence, "--max-returns-per-scan", "5000", "-o", mesh_out, "--quiet")
+        result = run("mesh", sequence, "--max-returns-per-scan", "5000", "-o", mesh_out)
         self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("inferred: Steiner lattice: 2 m, as the input advises", result.stderr)
         checked = subprocess.run(["python3", CHECKER, os.path.join(mesh_out, "mesh.ply"), "--json"],
                                  capture_output=True, text=True, timeout=300)
         self.assertEqual(checked.returncode, 0, checked.stdout + checked.stderr)
         self.assertGreater(json.loads(checked.stdout)["faces"], 1000)
+
+        # Against the scans themselves: the advised lattice keeps the faces that close what no ray
+        # reached near the returns (and marks them interpolated), where the mesher's default
+        # 10 m lattice leaves long measured faces between them.
+        coarse_out = self.out("mesh_10m")
+        result = run("mesh", sequence, "--max-returns-per-scan", "5000", "--steiner-step-m", "10", "-o", coarse_out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("inferred: Steiner lattice: 10 m, from --steiner-step-m", result.stderr)
+        scores = {}
+        for name, out in (("advised", mesh_out), ("10 m", coarse_out)):
+            report = self.out(name.replace(" ", "_") + ".txt")
+            result = run("eval", os.path.join(out, "mesh.ply"), "--gt-lidar", sequence, "--poses",
+                         os.path.join(sequence, "poses.txt"), "--frames", "0:2", "--report", report, "--quiet")
+            self.assertEqual(result.returncode, 0, result.stderr)
+            with open(report) as f:
+                scores[name] = dict(line.split()[:2] for line in f if len(line.split()) == 2)
+        accuracy = {name: float(v["accuracy_within_0.20m"]) for name, v in scores.items()}
+        self.assertGreater(accuracy["advised"], accuracy["10 m"] + 0.2, accuracy)
+        for name, v in scores.items():
+            self.assertGreater(float(v["completeness_within_0.25m"]), 0.85, name)
 
 
 class BadInputTest(TempDirCase):

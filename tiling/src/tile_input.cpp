@@ -102,6 +102,7 @@ TileInput selectTileInput(const datasets::SlamStream& stream, const TilePlan& pl
   input.stream.metres_per_unit = stream.metres_per_unit;
   input.stream.scale_known = stream.scale_known;
   input.stream.recommended_min_views = stream.recommended_min_views;
+  input.stream.recommended_steiner_step_m = stream.recommended_steiner_step_m;
   input.stream.recommend_auto_max_distance = stream.recommend_auto_max_distance;
   input.stream.sensor_up_S = stream.sensor_up_S;
   input.stream.description = stream.description;

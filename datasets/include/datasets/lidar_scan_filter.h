@@ -41,6 +41,15 @@ struct LidarScanOptions {
   }
 };
 
+/// The Steiner lattice spacing LiDAR readers advise (SlamStream::recommended_steiner_step_m),
+/// metres. A scan's rays fill the space within range; with the mesher's 10 m lattice the surface
+/// closes what no ray reached (between a scan's rings, behind its far returns) with long faces
+/// between returns, which touch no Steiner vertex and so count as measured. With nodes 2 m apart
+/// those closures stay near the data and touch lattice nodes (interpolated), and a scan's
+/// enclosing set shrinks with the lattice. docs/benchmarks.md, "LiDAR scans", has the spacings
+/// measured.
+inline constexpr double kLidarSteinerStepM = 2.0;
+
 /// What a LidarScanFilter did, summed over the scans it filtered.
 struct LidarScanCounts {
   std::size_t scans = 0;

@@ -7,6 +7,7 @@
 
 #include "mesher/ids.h"
 #include "mesher/keyframe.h"
+#include "mesher/mesher_config.h"
 
 namespace terramesh::mesher {
 class Mesher;
@@ -38,6 +39,9 @@ struct SlamStream {
   /// Views a point needs before insertion that suits this source (0: no advice). LiDAR streams,
   /// where every return is seen once, advise 1.
   int recommended_min_views = 0;
+  /// Steiner lattice spacing that suits this source, in metres (0: no advice, the mesher's
+  /// default). LiDAR streams advise kLidarSteinerStepM (lidar_scan_filter.h).
+  double recommended_steiner_step_m = 0;
   /// Whether the mesher's camera-distance filter should be derived from the data rather than a
   /// fixed distance in metres: structure-from-motion models (COLMAP, OpenMVG, Bundler) have an
   /// arbitrary scale, so that "40 m" means nothing in their units.
@@ -58,6 +62,11 @@ struct SlamStream {
 
   std::size_t keyframeEventCount() const;
 };
+
+/// Sets in `config` what `stream` advises for meshing (recommended_min_views,
+/// recommended_steiner_step_m); what it gives no advice on keeps its value. Flags that override
+/// the advice are applied after it.
+void applyMeshingAdvice(const SlamStream& stream, mesher::MesherConfig& config);
 
 /// The `quantile` (0-1) of the distances from each keyframe event's camera centre to the points it
 /// observes, in map units, over every observation of the stream (nearest rank); 0 when the stream

@@ -86,9 +86,10 @@ struct DistanceStats {
   double mean_m = 0.0;
   double median_m = 0.0;
   double p90_m = 0.0;
-  /// Fractions of the samples within 0.1, 0.25 and 0.5 m.
-  std::array<double, 3> within{};
-  static constexpr std::array<double, 3> kThresholdsM = {0.1, 0.25, 0.5};
+  /// Fractions of the samples within 0.1, 0.2, 0.25 and 0.5 m (kThresholdsM; index with kWithin*).
+  std::array<double, 4> within{};
+  static constexpr std::array<double, 4> kThresholdsM = {0.1, 0.2, 0.25, 0.5};
+  static constexpr std::size_t kWithin10cm = 0, kWithin20cm = 1, kWithin25cm = 2, kWithin50cm = 3;
 };
 
 /// `count` points spread uniformly by area over the faces of `mesh` (fixed `seed`); with
