@@ -47,8 +47,7 @@ print('| %s | %d | %.2f | %.2f | %.0f | %.0f | %s | %s | %s | %s |' % (
 EOF
 }
 
-echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), $(nproc) cores," \
-  "$(free -g | awk '/Mem:/ {print $2}') GiB; commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+echo "machine: $(scripts/machine.sh); commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
 echo
 echo "| run | scans | mesher s/scan, median | last scan s | map MiB | peak RSS MiB | accuracy <= 0.2 m |" \
   "accuracy <= 0.25 m | completeness <= 0.2 m | completeness <= 0.25 m |"

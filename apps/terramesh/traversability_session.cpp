@@ -184,8 +184,9 @@ void TraversabilitySession::finish(const mesher::Mesher& mesher, std::ostream& s
   writeFileAtomically(output_ / kUpdatesCsv, csv_.str());
   summary << "traversability: robot " << profile_.name << ", up " << map_->frame().up_W.transpose() << " ("
           << up_source_ << "), " << map_->faceCount() << " faces, " << report.levels << " level(s); "
-          << exports_ << " export(s), layer updates " << update_seconds_ << " s in total ("
-          << full_rebuilds_ << " full rebuild(s)), exports " << export_seconds_ << " s; " << unconfirmed_points_
+          << exports_ << " export(s), layer updates " << update_seconds_ << " s in total (" << full_rebuilds_
+          << " full rebuild(s): the map changed by half or more, or its history was gone), exports "
+          << export_seconds_ << " s; " << unconfirmed_points_
           << " SLAM point(s) seen by too few keyframes to mesh, judged as possible obstacles\n";
   for (std::size_t l = 0; l < report.levels; ++l) {
     summary << "  level " << l << ": mean height " << report.level_heights_m[l] << " m -> level_" << l

@@ -40,6 +40,32 @@ TEST(GridKeyTest, PackedKeyHoldsTheLow32BitsSideBySide) {
   static_assert(packCell2(3, 4) == ((3ull << 32) | 4ull), "constexpr");
 }
 
+TEST(GridKeyTest, MortonKeyInterleavesTheOffsetIndices) {
+  constexpr std::int64_t kZero = -(std::int64_t{1} << 31);  // offset to 0
+  EXPECT_EQ(mortonCell2(kZero, kZero), 0u);
+  EXPECT_EQ(mortonCell2(kZero, kZero + 1), 1u);  // j in the even bits
+  EXPECT_EQ(mortonCell2(kZero + 1, kZero), 2u);
+  EXPECT_EQ(mortonCell2(kZero + 3, kZero + 3), 15u);
+  EXPECT_EQ(mortonCell2(kZero + 2, kZero), 8u);
+  // 0 offset is 2^31: bit 31 of each, interleaved into bits 63 (i) and 62 (j).
+  EXPECT_EQ(mortonCell2(0, 0), 0xc000000000000000ull);
+  // The Z curve visits a 2x2 block before moving on, at every scale: the four cells of each
+  // aligned 2^k block take consecutive keys.
+  std::unordered_set<std::uint64_t> seen;
+  for (std::int64_t i = -8; i < 8; ++i) {
+    for (std::int64_t j = -8; j < 8; ++j) EXPECT_TRUE(seen.insert(mortonCell2(i, j)).second);
+  }
+  for (std::int64_t i = -8; i < 8; i += 2) {
+    for (std::int64_t j = -8; j < 8; j += 2) {
+      const std::uint64_t first = mortonCell2(i, j);
+      EXPECT_EQ(first % 4, 0u);
+      EXPECT_EQ(mortonCell2(i, j + 1), first + 1);
+      EXPECT_EQ(mortonCell2(i + 1, j), first + 2);
+      EXPECT_EQ(mortonCell2(i + 1, j + 1), first + 3);
+    }
+  }
+}
+
 TEST(GridKeyTest, Packed3DKeysAreUniqueWithinTheirRangeAndLeaveBit63Clear) {
   std::unordered_set<std::uint64_t> seen;
   constexpr std::int64_t lo = -(std::int64_t{1} << 20), hi = (std::int64_t{1} << 20) - 1;

@@ -472,17 +472,25 @@ std::vector<mesher::Keyframe> thereAndBack(const std::vector<mesher::Keyframe>& 
 
 /// Meshes the keyframes one by one, brings the map up to date with TraversabilityMap::update (what
 /// `terramesh mesh --robot` does) and compares every layer of every face, `rays` included, with a
-/// full recomputation from the mesher's current faces after every keyframe.
-void streamScene(const std::vector<mesher::Keyframe>& keyframes, const RobotProfile& profile) {
+/// full recomputation from the mesher's current faces after every keyframe. update() rebuilds
+/// exactly when the delta replaces at least half of the map's faces; `rebuilds` counts those.
+void streamScene(const std::vector<mesher::Keyframe>& keyframes, const RobotProfile& profile,
+                 std::size_t* rebuilds_out = nullptr) {
   mesher::MesherConfig config;
   config.steiner_step_m = 4.0;
   mesher::Mesher mesher(config);
   TraversabilityMap map(profile, MapFrame{});
   std::uint64_t revision = mesher.revision();
-  std::size_t updates = 0, known = 0, reobserved = 0;
+  std::size_t updates = 0, known = 0, reobserved = 0, rebuilds = 0;
   for (const mesher::Keyframe& keyframe : keyframes) {
     mesher.integrateKeyframe(keyframe);
+    const mesher::SurfaceDelta delta = mesher.changesSince(revision);
+    const std::size_t before = map.faceCount();
+    const bool large = before > 0 && 2 * (delta.added.size() + delta.removed.size()) >= before;
     const LayerUpdateStats stats = map.update(mesher, revision);
+    EXPECT_EQ(stats.full_rebuild, large) << "keyframe " << keyframe.id.value << ": " << delta.added.size()
+                                         << " added, " << delta.removed.size() << " removed of " << before;
+    rebuilds += stats.full_rebuild ? 1 : 0;
     revision = mesher.revision();
     reobserved += stats.faces_reobserved;
     ++updates;
@@ -500,6 +508,9 @@ void streamScene(const std::vector<mesher::Keyframe>& keyframes, const RobotProf
   // Faces whose count changed while they stayed in place: without their fresh counts the `rays`
   // layer (and the known/unknown class that depends on it) would go stale.
   EXPECT_GT(reobserved, 0u) << "the stream must re-observe faces for the test to mean anything";
+  // Most updates must take the incremental path for the comparison to test it.
+  EXPECT_LT(2 * rebuilds, updates);
+  if (rebuilds_out) *rebuilds_out = rebuilds;
 }
 
 TEST(IncrementalTest, MesherDeltasOnACurbEqualFullRecomputation) {
@@ -523,6 +534,27 @@ TEST(IncrementalTest, RevisitedCurbEqualsFullRecomputationRaysIncluded) {
   options.keyframes = 8;
   options.density_per_m2 = 3.0;
   streamScene(thereAndBack(test::stepScene(0.15, options).keyframes), loadRobotProfile(kRobots / "small_wheeled.yaml"));
+}
+
+TEST(IncrementalTest, AKeyframeReplacingHalfTheMapRebuildsItAndEqualsFullRecomputation) {
+  // A sparse first look at the curb (a tenth of the first keyframe's points), then the stream as
+  // it was: the second keyframe fills the same ground in, redrawing most of the surface (as each
+  // LiDAR scan redraws the map around it), and update() rebuilds rather than re-judging nearly
+  // every footprint one change at a time.
+  test::SceneOptions options;
+  options.keyframes = 12;
+  options.density_per_m2 = 3.0;
+  std::vector<mesher::Keyframe> keyframes = test::stepScene(0.15, options).keyframes;
+  mesher::Keyframe sparse = keyframes.front();
+  sparse.id.value = 1000;
+  sparse.observations.clear();
+  for (std::size_t i = 0; i < keyframes.front().observations.size(); i += 10) {
+    sparse.observations.push_back(keyframes.front().observations[i]);
+  }
+  keyframes.insert(keyframes.begin(), sparse);
+  std::size_t rebuilds = 0;
+  streamScene(keyframes, loadRobotProfile(kRobots / "small_wheeled.yaml"), &rebuilds);
+  EXPECT_GE(rebuilds, 1u);
 }
 
 TEST(IncrementalTest, IncompleteDeltaIsRejected) {

@@ -24,6 +24,27 @@ SurfaceStore::CellKey SurfaceStore::centroidCellKey(const Eigen::Vector3d& c) co
 
 SurfaceStore::CellKey SurfaceStore::cellKey(std::int64_t i, std::int64_t j) const { return geometry::packCell2(i, j); }
 
+void SurfaceStore::sortByLocality(std::vector<Slot>& slots, std::size_t first, std::size_t last) const {
+  std::vector<std::pair<std::uint64_t, Slot>> keyed;
+  keyed.reserve(last - first);
+  for (std::size_t i = first; i < last; ++i) {
+    const geometry::CellKey2 cell = geometry::cellOf(Eigen::Vector2d(centroids_[slots[i]].head<2>()), kLocalityCellM);
+    keyed.emplace_back(geometry::mortonCell2(cell.i, cell.j), slots[i]);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t i = first; i < last; ++i) slots[i] = keyed[i - first].second;
+}
+
+std::vector<Slot> SurfaceStore::aliveSlotsByLocality() const {
+  std::vector<Slot> slots;
+  slots.reserve(size());
+  for (Slot s = 0; s < slotCount(); ++s) {
+    if (faces_[s].alive) slots.push_back(s);
+  }
+  sortByLocality(slots, 0, slots.size());
+  return slots;
+}
+
 void SurfaceStore::setDrive(Slot s,
                                 const std::function<std::optional<Eigen::Isometry3d>(mesher::PointId)>& lookup) {
   StoredFace& f = faces_[s];

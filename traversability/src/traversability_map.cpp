@@ -48,6 +48,17 @@ double centroidCellM(const RobotProfile& profile) {
   return std::clamp(profile.footprintCircumradiusM(), 1.0, 4.0);
 }
 
+/// A delta that replaces at least this share of the map's faces reaches nearly every footprint
+/// (KITTI 00's LiDAR scans: 0.6 of the faces replaced per scan, 0.94 re-judged), and a rebuild
+/// judges a face for less than an update does (it lays the store out anew, neighbours next to
+/// each other; docs/benchmarks.md, "LiDAR scans"). Either way the layers are the same.
+constexpr double kRebuildChangeShare = 0.5;
+
+bool rebuildIsCheaper(const mesher::SurfaceDelta& delta, std::size_t faces_before) {
+  const double changed = static_cast<double>(delta.added.size() + delta.removed.size());
+  return faces_before > 0 && changed >= kRebuildChangeShare * static_cast<double>(faces_before);
+}
+
 /// Whether a stored face has exactly the vertices (same order), positions and Steiner flag of
 /// `face`: then replacing it would change no layer but its own observation count.
 bool sameGeometry(const StoredFace& stored, const mesher::SurfaceFace& face) {
@@ -283,7 +294,7 @@ LayerUpdateStats TraversabilityMap::update(const mesher::Mesher& mesher, std::ui
   const mesher::SurfaceDelta delta = mesher.changesSince(from_revision);
   LayerUpdateStats stats;
   const bool points_changed = impl_->followUnconfirmed(mesher);
-  if (!delta.complete) {
+  if (!delta.complete || rebuildIsCheaper(delta, impl_->faceCount())) {
     stats = impl_->reset(mesher.surfaceFaces());
   } else if (!delta.empty() || points_changed) {
     stats = impl_->apply(delta, mesher.facesAround(delta.touched_vertices));

@@ -42,7 +42,9 @@ struct LayerUpdateStats {
   /// counted in faces_added and faces_removed too): only their observation count is re-read.
   std::size_t faces_readded_unchanged = 0;
   std::size_t faces_total = 0;       ///< faces in the map after the update
-  bool full_rebuild = false;         ///< the delta was incomplete: everything was recomputed
+  /// Everything was recomputed: the delta was incomplete, or replaced at least half of the map's
+  /// faces (update() then rebuilds, which costs less than an update reaching every footprint).
+  bool full_rebuild = false;
   /// SLAM points the mesher holds but has not inserted (possible obstacles), after the update.
   std::size_t unconfirmed_points = 0;
   double seconds = 0;                ///< wall-clock time of the update
@@ -68,7 +70,8 @@ class TraversabilityMap {
   /// Brings the layers from the surface `mesher` had at `from_revision` (the revision this map was
   /// last brought to) to its current surface and unconfirmed points: setUnconfirmedPoints(
   /// unconfirmedPoints()) with apply(changesSince(from_revision), facesAround(touched_vertices)),
-  /// or reset(surfaceFaces()) when that history is forgotten.
+  /// or reset(surfaceFaces()) when that history is forgotten or the change replaces at least half
+  /// of the map's faces.
   /// Afterwards every layer, `rays` included, equals reset(mesher.surfaceFaces()) exactly; the next
   /// call continues from mesher.revision(). Cost proportional to the change (except a reset).
   /// @throw std::invalid_argument if `from_revision` is newer than mesher.revision().
