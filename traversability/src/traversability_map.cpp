@@ -50,8 +50,9 @@ double centroidCellM(const RobotProfile& profile) {
 
 /// A delta that replaces at least this share of the map's faces reaches nearly every footprint
 /// (KITTI 00's LiDAR scans: 0.6 of the faces replaced per scan, 0.94 re-judged), and a rebuild
-/// judges a face for less than an update does (it lays the store out anew, neighbours next to
-/// each other; docs/benchmarks.md, "LiDAR scans"). Either way the layers are the same.
+/// judges a face for less than an update does (it lays the store out anew in key order, and skips
+/// facesAround; docs/benchmarks.md, "Layer updates on LiDAR scans"). Either way the layers are the
+/// same.
 constexpr double kRebuildChangeShare = 0.5;
 
 bool rebuildIsCheaper(const mesher::SurfaceDelta& delta, std::size_t faces_before) {
