@@ -41,6 +41,15 @@ double weightedQuantile(std::vector<std::pair<double, double>> values, double sh
   return values.back().first;
 }
 
+/// Whether something at horizontal distance `distance_m` from the path lies in its strip of half
+/// width `lateral_m`: strictly inside, by more than rounding. Surface standing on the strip's very
+/// edge (a wall, or a slope rising outwards from it) covers none of the strip's ground, and where
+/// the edge falls on a column or a piece's centroid it would otherwise count as if it did.
+bool inStrip(double distance_m, double lateral_m) {
+  constexpr double kEdgeM = 1e-9;
+  return distance_m < lateral_m - kEdgeM;
+}
+
 /// The nearest point of a polyline (metres), horizontally: its horizontal distance and the point.
 struct PathFoot {
   double distance = std::numeric_limits<double>::infinity();
@@ -151,7 +160,7 @@ void judgeColumns(const traversability::LayeredMesh& map, const mesher::Triangle
         const Eigen::Vector3d ground =
             (static_cast<double>(u) + 0.5) * s * e1 + (static_cast<double>(v) + 0.5) * s * e2;
         const PathFoot foot = nearestOnPath(path.path, up, ground);
-        if (foot.distance > config.lateral_m) continue;
+        if (!inStrip(foot.distance, config.lateral_m)) continue;
         const double road_height = up.dot(foot.point) - config.camera_height_m;
         const std::optional<datasets::RayHit> hit =
             bvh ? highestFacingUp(*bvh, metric, up, ground + (road_height + config.height_tolerance_m) * up,
@@ -229,7 +238,7 @@ RoadUnderPath roadUnderPath(const traversability::LayeredMesh& map, const std::v
     const PathFoot foot = nearestOnPath(path, up, centroid);
     const double best = foot.distance;
     const Eigen::Vector3d& best_point = foot.point;
-    if (best > config.lateral_m) continue;
+    if (!inStrip(best, config.lateral_m)) continue;
     const double below = up.dot(best_point - centroid);
     if (std::abs(below - config.camera_height_m) > config.height_tolerance_m) continue;
     const double area = faceArea(pieces.mesh, p);
@@ -283,7 +292,7 @@ GroundUnderPath groundUnderPath(const traversability::LayeredMesh& map, const st
     if (!g_W.allFinite()) throw std::invalid_argument("groundUnderPath: a ground point is not finite");
     const Eigen::Vector3d g = g_W * map.metres_per_unit;
     const PathFoot foot = nearestOnPath(path, up, g);
-    if (foot.distance > config.lateral_m) continue;
+    if (!inStrip(foot.distance, config.lateral_m)) continue;
     if (std::abs(up.dot(foot.point - g) - config.camera_height_m) > config.height_tolerance_m) continue;
     ++out.points;
     std::vector<char>& stretches = covered[foot.segment];

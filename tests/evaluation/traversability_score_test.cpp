@@ -282,6 +282,46 @@ TEST(RoadUnderPath, UnderfootColumnsWeighWhatCoversTheGround) {
   EXPECT_THROW(roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), config), std::invalid_argument);
 }
 
+TEST(RoadUnderPath, SurfaceOnTheStripsEdgeIsNotUnderIt) {
+  // A free floor under a path along y = 0, with uncertain geometry standing on the strip's edges
+  // (y = +-0.25, the robot's half width), where pieces' centroids and columns of the 0.1 m grid
+  // lie: vertical walls, and slopes rising outwards from the edges (at a column on the edge, as
+  // high as the floor; listed first, so they win that tie). None of it lies over the strip's
+  // ground, whichever way "up" leans in the plane of the walls (the cameras' mean up on a ramp).
+  LabeledMesh sheets;
+  for (const double side : {-1.0, 1.0}) {
+    const double y = 0.25 * side, out = 0.75 * side;
+    test::addQuad(sheets, {0, y, 0}, {8, y, 0}, {8, out, 1}, {0, out, 1}, SurfaceLabel::kWall);
+    test::addQuad(sheets, {0, y, 0}, {8, y, 0}, {8, y, 1}, {0, y, 1}, SurfaceLabel::kWall);
+  }
+  const std::size_t wall_faces = sheets.mesh.faces.size();
+  test::addFloor(sheets, 0, 8, -0.25, 0.25, 0, SurfaceLabel::kRoad);
+  LayeredMesh map;
+  map.mesh = sheets.mesh;
+  for (std::size_t f = 0; f < map.mesh.faces.size(); ++f) {
+    traversability::FaceLayers layers;
+    layers.face_class = f < wall_faces ? FaceClass::kUncertain : FaceClass::kFree;
+    map.layers.push_back(layers);
+  }
+  const std::vector<Eigen::Vector3d> path = {{1, 0, 1.65}, {7, 0, 1.65}};
+  RoadUnderPathConfig config;
+  config.lateral_m = 0.25;
+  for (const double lean : {0.0, -0.012066, 0.03}) {
+    SCOPED_TRACE(lean);
+    const RoadUnderPath road = roadUnderPath(map, path, Eigen::Vector3d(lean, 0, 1).normalized(), config);
+    // The strip: 6 m by 0.5 m, and half-discs at the ends (columns: 4 of the grid's across it).
+    EXPECT_NEAR(road.underfoot.total() + road.underfoot_none_m2, 6.0 * 0.4 + 0.16, 0.05);
+    EXPECT_NEAR(road.underfoot_free_fraction, 1.0, 1e-12);
+    EXPECT_NEAR(road.areas.total(), 6.0 * 0.5 + M_PI * 0.25 * 0.25, 0.01);
+    EXPECT_NEAR(road.free_fraction, 1.0, 1e-12);
+  }
+  // A hair wider, the strip takes them in.
+  config.lateral_m = 0.26;
+  const RoadUnderPath wider = roadUnderPath(map, path, Eigen::Vector3d::UnitZ(), config);
+  EXPECT_LT(wider.underfoot_free_fraction, 0.9);
+  EXPECT_LT(wider.free_fraction, 0.9);
+}
+
 TEST(GroundUnderPath, MeasuredGroundUnderThePathTakesTheMapFaceOverIt) {
   // Map in units of 0.5 m, 1.65 m below a camera path along x from 5 to 15 m: free for y < 0,
   // lethal for y >= 0, with a hole at 10 <= x < 11; measured ground 0.05 m under it every 0.1 m

@@ -16,7 +16,8 @@ namespace terramesh::evaluation {
 /// Where the road under a driven camera path is looked for (real data with no labelled truth:
 /// the road the camera's car drove on must be traversable).
 struct RoadUnderPathConfig {
-  /// Map surface within this horizontal distance of the camera path counts, in metres.
+  /// Map surface within this horizontal distance of the camera path counts, in metres (strictly
+  /// within: what stands on the strip's very edge covers none of its ground).
   double lateral_m = 1.5;
   /// The road lies this far below the camera (KITTI: 1.65 m).
   double camera_height_m = 1.65;
@@ -124,7 +125,7 @@ Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rot
 
 /// Classes of the map surface under the polyline `path_W` (camera centres in driving order, in
 /// the map's units and frame): pieces whose centroid is within lateral_m horizontally of the
-/// polyline and between camera_height_m -/+ height_tolerance_m below the nearest path point.
+/// polyline (strictly, by more than rounding: surface on the strip's very edge covers none of it) and between camera_height_m -/+ height_tolerance_m below the nearest path point.
 /// Distances are converted to metres with map.metres_per_unit; "up" is `up_W`. With `truth` (the
 /// truth judged for the map's robot, in metres, in the map's frame), how far the free pieces lie
 /// from its surface, and each piece judged by the truth at its nearest truth face.
