@@ -171,6 +171,43 @@ TEST(EvidenceTest, OnDrivenGroundBridgesAreContradictedButWallsPlacedLaterCount)
   }
 }
 
+TEST(EvidenceTest, ABridgeFromTheUndersideOfADrivenDeckIsContradictedToo) {
+  // A driven strip on a deck (|y| < 0.5, z = 0) whose undersides lie 0.1 m below it, and measured
+  // deck beyond. The mesh bridges the underside at the strip's edge to a point 1 m up at y = 2.5
+  // (the deck's wall, a parked car): a slanted face whose only measured vertex is that point. The
+  // drive put its other vertices there, so the span is no measured obstacle: a guessed wall
+  // (uncertain, never free), and the strip beside it stays free, up to its edge.
+  const RobotProfile profile = smallWheeled();
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  mesher::TriangleMesh bridge;
+  bridge.vertices = {{-3, 0.5, -0.1}, {3, 0.5, -0.1}, {3, 2.5, 1.0}, {-3, 2.5, 1.0}};
+  bridge.faces = {{0, 1, 2}, {0, 2, 3}};
+  test::appendMesh(mesh, bridge);
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    bool on_strip = true;
+    for (const auto& p : faces[f].positions_W) on_strip = on_strip && std::abs(p.y()) <= 0.5 + 1e-9;
+    faces[f].driven_vertices = on_strip ? 3 : 0;
+  }
+  faces[floor_faces].underside_vertices = 2;
+  faces[floor_faces + 1].underside_vertices = 1;
+  const std::vector<FaceLayers> layers = layersOf(faces, profile);
+  for (const std::size_t f : {floor_faces, floor_faces + 1}) {
+    EXPECT_EQ(layers[f].evidence, Evidence::kInterpolated) << f;
+    EXPECT_EQ(layers[f].face_class, FaceClass::kUncertain) << f;
+    EXPECT_TRUE(layers[f].reasons & reason::kGuessedWall) << layers[f].reasons;
+  }
+  std::size_t strip = 0;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (faces[f].driven_vertices != 3 || std::abs(c.x()) > 2.5) continue;
+    ++strip;
+    EXPECT_EQ(layers[f].face_class, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+  }
+  EXPECT_GT(strip, 100u);
+}
+
 TEST(EvidenceTest, OnDrivenGroundOnlyTheSupportedPartsOfALongFaceAreObstacles) {
   // A 6 m tall face rising steeply (73 deg) from y = 0.7 and leaning over the strip (the mesh
   // spanning from a point at the road's edge to a facade point metres up): its part inside the

@@ -45,11 +45,13 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
   } else {
     // SLAM points: their noise, plus the relief the span between them can hide; less where rays
     // crossed the free space in front of the face (nothing stood above it on their way). A steep
-    // face on a driven sample rising more than a step is the mesh bridging the road the robot
-    // drove to something higher (whose own faces show it): the drive contradicts the span, so it
-    // is no measured obstacle. (A lower one may be a curb's riser, which the step judges.)
+    // face on a driven sample, or on the underside the drive put under one (a deck's slab), rising
+    // more than a step is the mesh bridging the road the robot drove to something higher (whose
+    // own faces show it): the drive contradicts the span, so it is no measured obstacle. (A lower
+    // one may be a curb's riser, which the step judges.)
     const bool observed = f.front_crossings > 0;
-    const bool bridge = f.driven_vertices > 0 && !(f.normal_L.z() >= cos_max_slope_) &&
+    const bool on_drive = f.driven_vertices > 0 || f.underside_vertices > 0;
+    const bool bridge = on_drive && !(f.normal_L.z() >= cos_max_slope_) &&
                         f.max_z - f.min_z > profile_.max_step_m;
     // Rays crossed the cell behind: the space the face closes off was seen free. The face is then
     // a membrane the 2-manifold keeps, not a measured surface: a level one is a lid (over a pit
