@@ -125,7 +125,8 @@ Eigen::Vector3d upFromCameraRotations(const std::vector<Eigen::Quaterniond>& rot
 
 /// Classes of the map surface under the polyline `path_W` (camera centres in driving order, in
 /// the map's units and frame): pieces whose centroid is within lateral_m horizontally of the
-/// polyline (strictly, by more than rounding: surface on the strip's very edge covers none of it) and between camera_height_m -/+ height_tolerance_m below the nearest path point.
+/// polyline (strictly, by more than rounding: surface on the strip's very edge covers none of it)
+/// and between camera_height_m -/+ height_tolerance_m below the nearest path point.
 /// Distances are converted to metres with map.metres_per_unit; "up" is `up_W`. With `truth` (the
 /// truth judged for the map's robot, in metres, in the map's frame), how far the free pieces lie
 /// from its surface, and each piece judged by the truth at its nearest truth face.
