@@ -260,6 +260,46 @@ TEST(EvidenceTest, OnDrivenGroundOnlyTheSupportedPartsOfALongFaceAreObstacles) {
   }
 }
 
+TEST(EvidenceTest, OnDrivenGroundAVertexBesideTheStripSupportsNothingInsideIt) {
+  // A driven strip (|y| <= 0.34, the drive along y = 0) under a measured face that faces down at
+  // 45 degrees: from a point 0.45 m up beside the strip (y 0.45, 0.11 m beyond its side: a SLAM
+  // outlier, or the top of a rock) to floor points on the centre line. The corner that point
+  // supports reaches y 0.19, into the strip. The robot's body swept the strip with that point
+  // already there, so only the part beyond the side counts: faces just across the centre line
+  // (their footprint reaches y 0.19-0.31) are free, those nearer the side are not. A point
+  // standing inside the strip (y 0.25, placed later) supports its corner there whole.
+  const RobotProfile profile = smallWheeled();
+  for (const double point_y : {0.45, 0.25}) {
+    mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+    const std::size_t floor_faces = mesh.faces.size();
+    mesher::TriangleMesh lid;
+    lid.vertices = {{0, point_y, 0.45}, {0.6, 0, 0}, {-0.6, 0, 0}};  // facing down
+    lid.faces = {{0, 1, 2}};
+    test::appendMesh(mesh, lid);
+    std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+    driveAlongX(faces, floor_faces, 0.34);
+    const std::map<mesher::FaceKey, FaceLayers> layers = layersByKey(faces, profile, basesAlongX(mesh));
+    EXPECT_EQ(layers.at(faces[floor_faces].key).evidence, Evidence::kMeasured);
+    std::size_t far_half = 0, near_side = 0;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      if (faces[f].driven_vertices != 3 || std::abs(c.x()) > 0.3) continue;
+      const FaceLayers& got = layers.at(faces[f].key);
+      if (c.y() > -0.15 && c.y() < -0.03) {
+        ++far_half;
+        EXPECT_EQ(got.face_class == FaceClass::kFree, point_y > 0.34)
+            << "point at y " << point_y << ", face at (" << c.x() << ", " << c.y() << "), reasons " << got.reasons;
+      } else if (c.y() > 0.1) {
+        ++near_side;
+        EXPECT_NE(got.face_class, FaceClass::kFree)
+            << "point at y " << point_y << ", face at (" << c.x() << ", " << c.y() << ")";
+      }
+    }
+    EXPECT_GT(far_half, 8u);
+    EXPECT_GT(near_side, 8u);
+  }
+}
+
 TEST(EvidenceTest, OnDrivenGroundSlantedFacesCountBeyondTheStripTheBodySwept) {
   // A driven strip (|y| <= 0.3, the drive along y = 0) and two measured slanted faces: one
   // floating over the strip in the body's volume (the robot drove through it: contradicted), one

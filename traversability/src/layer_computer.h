@@ -298,7 +298,8 @@ class LayerComputer {
   /// The rest of a long span is interpolated across the volume the robot's body swept: the drive
   /// contradicts it.
   /// Parts beyond the strip face f's drive swept are split off as for addUnsweptParts (with
-  /// their extension); the part inside counts whole.
+  /// their extension); the part inside counts whole where the vertex stands inside the strip, and
+  /// not at all from a vertex beyond it.
   void collectSupportedParts(const StoredFace& f, const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a,
                              double ref_b) const;
   /// Per heading, the top of the highest measured obstacle (obstacles_) the footprint meets, 0 if

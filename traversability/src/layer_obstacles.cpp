@@ -141,12 +141,15 @@ void LayerComputer::collectSupportedParts(const StoredFace& f, const SampleGeome
     o.possible = false;
     setExtension(o, t, c);
     // Beyond the strip the body swept it may extend as anywhere; its extension into the strip is
-    // contradicted by the drive. A part inside the strip (something there while the robot drove
-    // past, or placed later) counts whole, with its extension.
+    // contradicted by the drive. A part inside the strip counts whole, with its extension, where
+    // its vertex stands inside too (something placed later; the evidence withdraws a drive only
+    // for the points in the body). From a vertex beyond the strip the support into it is inferred
+    // as the extension is, over the volume the body swept: the drive contradicts it.
     Obstacle inside;
     if (!pushBeyondStrip(f, o, inside)) {
       obstacles_.push_back(o);
-    } else if (inside.n > 0) {
+    } else if (inside.n > 0 && !(std::abs(f.driveNormal().dot(a.head<2>() - c.head<2>()) - f.driveOffsetM()) >
+                                 sweptHalfWidthM())) {
       obstacles_.push_back(inside);
     }
   }
