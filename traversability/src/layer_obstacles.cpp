@@ -148,10 +148,10 @@ void LayerComputer::collectSupportedParts(const StoredFace& f, const SampleGeome
     Obstacle inside;
     if (!pushBeyondStrip(f, o, inside)) {
       obstacles_.push_back(o);
-    } else if (inside.n > 0 && !(std::abs(f.driveNormal().dot(a.head<2>() - c.head<2>()) - f.driveOffsetM()) >
-                                 sweptHalfWidthM())) {
-      obstacles_.push_back(inside);
+      continue;
     }
+    const double vertex_across_m = f.driveNormal().dot(a.head<2>() - c.head<2>()) - f.driveOffsetM();
+    if (inside.n > 0 && !(std::abs(vertex_across_m) > sweptHalfWidthM())) obstacles_.push_back(inside);
   }
 }
 
