@@ -6,7 +6,10 @@
 //
 //   terramesh_latency_bench STREAM [--max-keyframes N] [--mesh-out FILE.ply]
 //                           [--check-invariants-every K] [--slowest N] [--enclosing-radius-cells R]
-//                           [--handle-min-rays N]
+//                           [--handle-min-rays N] [--floor]
+//
+// --floor: also the floor of an update on the same keyframes (update_floor.h), and the ratio of
+// the medians.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +23,7 @@
 #include "datasets/stream_reader.h"
 #include "mesher/mesh_io.h"
 #include "mesher/mesher.h"
+#include "update_floor.h"
 
 namespace {
 
@@ -44,6 +48,7 @@ struct Options {
   std::size_t slowest = 5;
   int enclosing_radius_cells = 0;  ///< 0: the config's default
   int handle_min_rays = -1;  ///< -1: the mode's default
+  bool floor = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -64,6 +69,8 @@ Options parse(int argc, char** argv) {
       options.enclosing_radius_cells = std::stoi(value());
     } else if (arg == "--handle-min-rays") {
       options.handle_min_rays = std::stoi(value());
+    } else if (arg == "--floor") {
+      options.floor = true;
     } else if (arg == "--slowest") {
       options.slowest = std::stoul(value());
     } else if (!arg.empty() && arg[0] != '-' && options.stream.empty()) {
@@ -81,6 +88,19 @@ struct KeyframeRow {
   double cpu_ms = 0;
   mesher::UpdateStats stats;
 };
+
+/// The floor on the same keyframes, its distribution and the ratio of the update's median to its.
+void printFloor(const datasets::SlamStream& stream, const mesher::MesherConfig& config, std::size_t keyframes,
+                double update_median_ms) {
+  const bench::FloorRun floor = bench::measureFloor(stream, config, keyframes);
+  const std::vector<double>& ms = floor.keyframe_ms;
+  const double median = quantile(ms, 0.5);
+  std::printf("floor CPU time per keyframe (ms): mean %.2f median %.2f p99 %.2f (points %zu, rays %zu, "
+              "unresolved walks %zu)\n",
+              mean(ms, 0, ms.size()), median, quantile(ms, 0.99), floor.points_inserted, floor.rays_walked,
+              floor.walk_failures);
+  std::printf("update / floor, medians: %.2f\n", median > 0 ? update_median_ms / median : 0.0);
+}
 
 int run(const Options& options) {
   const datasets::SlamStream stream = datasets::readAnyStream(options.stream);
@@ -158,6 +178,7 @@ int run(const Options& options) {
                 row.stats.steiner_points, row.stats.new_points, row.stats.moved_points,
                 row.stats.rays_retraced);
   }
+  if (options.floor) printFloor(stream, config, rows.size(), quantile(ms, 0.5));
   if (options.check_every > 0) std::printf("invariant checks failed: %zu\n", invariant_failures);
   if (!options.mesh_out.empty()) mesher::writePly(options.mesh_out, mesher.extractMesh());
   return invariant_failures == 0 ? 0 : 1;

@@ -160,7 +160,7 @@ void registerStream(const BenchStream* s, const std::vector<std::string>& robots
 }  // namespace
 }  // namespace terramesh::traversability
 
-/// Streams: the built-in 200 m street (small_wheeled and car), plus every stream file listed in
+/// Streams: the built-in 200 m street (every shipped robot), plus every stream file listed in
 /// the environment variable TERRAMESH_TRAV_STREAMS (separated by ':'; small_wheeled only).
 int main(int argc, char** argv) {
   using terramesh::bench::BenchStream;
@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   std::vector<std::unique_ptr<BenchStream>> streams;
   streams.push_back(std::make_unique<BenchStream>(terramesh::bench::builtinStreet()));
-  terramesh::traversability::registerStream(streams.back().get(), {"small_wheeled", "car"});
+  terramesh::traversability::registerStream(streams.back().get(), {"small_wheeled", "legged", "car"});
   if (const char* list = std::getenv("TERRAMESH_TRAV_STREAMS")) {
     std::istringstream in(list);
     for (std::string path; std::getline(in, path, ':');) {
