@@ -2,9 +2,9 @@
 # Regenerates the tables of the real-time targets (docs/benchmarks.md, "The targets in one run"):
 # the keyframe update per stream against its floor, romanoni15 and (optionally) another build; the
 # layer update per keyframe for every shipped robot on KITTI 00 and a generated street, and the
-# full computation's faces per second; the trajectory evidence's share of the update; and the ten
-# shared KITTI 00 LiDAR scans per scan. Prints markdown, with the machine, the date and the
-# commit; the logs behind every number stay in OUT/logs.
+# full computation's faces per second; the trajectory evidence's share of the update; and LiDAR
+# per scan (the ten shared KITTI 00 scans, optionally a generated street's). Prints markdown, with
+# the machine, the date and the commit; the logs behind every number stay in OUT/logs.
 #
 # Usage: scripts/benchmarks.sh [OUT] [BEFORE_BUILD_DIR]      (default OUT: out/benchmarks)
 #   BEFORE_BUILD_DIR: a build of another commit (with benchmarks/terramesh_latency_bench); its
@@ -14,8 +14,9 @@
 #   TERRAMESH_BENCH_ROMANONI_KL=1 also runs romanoni15 over the whole KITTI-like stream (about 5
 #   min; by default the speed-up is measured on the far-seeing streams and the first 300 KITTI-like
 #   keyframes); TERRAMESH_BENCH_STREAMS (default "kl far far_seed2 far_dense") chooses the streams
-#   of the first table; TERRAMESH_BENCH_LIDAR=0 skips the LiDAR scans. Streams are generated once
-#   into OUT/streams and reused.
+#   of the first table; TERRAMESH_BENCH_LIDAR=0 skips the LiDAR scans; TERRAMESH_BENCH_LIDAR_SCANS=N
+#   adds the first N scans of a generated LiDAR street (N=300: about 30 min). Streams are generated
+#   once into OUT/streams and reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/benchmarks}
@@ -124,21 +125,36 @@ for robot in small_wheeled car; do
     "$logs/evidence_$robot.txt"
 done
 
-if [[ ${TERRAMESH_BENCH_LIDAR:-1} != 0 ]]; then
-  echo
-  echo "## LiDAR: the ten shared KITTI 00 scans, defaults, small_wheeled (wall clock per scan, s)"
-  echo
-  echo "| mesher median | layers median | mesher + layers median | resident memory after scan 1 / 10, MiB |"
-  echo "|---|---|---|---|"
-  run=$out/runs/lidar_kitti00
-  "$terramesh" mesh "$shared/data/kitti00_lidar" --poses "$poses" --robot traversability/robots/small_wheeled.yaml \
-    -o "$run" --memory-log --quiet
+# lidar_row NAME INPUT [MESH ARGS...]: one LiDAR run with small_wheeled's layers, as a table row.
+lidar_row() {
+  local name=$1 input=$2 run=$out/runs/lidar_$1
+  shift 2
+  "$terramesh" mesh "$input" --robot traversability/robots/small_wheeled.yaml -o "$run" --memory-log --quiet "$@"
   # Per scan (one row per event in both files), the mesher's time plus the layers'.
+  local both mem
   both=$(awk -F, 'FNR == 1 { for (i = 1; i <= NF; ++i) if ($i == "time_total_s" || $i == "layer_update_s") c = i; next }
     { s[FNR] += $c } END { for (k in s) print s[k] }' "$run/keyframes.csv" "$run/traversability_updates.csv" |
     sort -g | awk '{ v[n++] = $1 } END { printf "%.2f", n % 2 ? v[(n - 1) / 2] : (v[n / 2 - 1] + v[n / 2]) / 2 }')
   mem=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "rss_mib") c = i; next } { v[++n] = $c }
     END { printf "%.0f / %.0f", v[1], v[n] }' "$run/memory.csv")
-  echo "| $(median "$run/keyframes.csv" time_total_s) | $(median "$run/traversability_updates.csv" layer_update_s)" \
-    "| $both | $mem |"
+  echo "| $name | $(median "$run/keyframes.csv" time_total_s)" \
+    "| $(median "$run/traversability_updates.csv" layer_update_s) | $both | $mem |"
+}
+
+if [[ ${TERRAMESH_BENCH_LIDAR:-1} != 0 ]]; then
+  echo
+  echo "## LiDAR, defaults, small_wheeled (wall clock per scan, s)"
+  echo
+  echo "| scans | mesher median | layers median | mesher + layers median |" \
+    "resident memory after the first / last scan, MiB |"
+  echo "|---|---|---|---|---|"
+  lidar_row kitti00 "$shared/data/kitti00_lidar" --poses "$poses"
+  scans=${TERRAMESH_BENCH_LIDAR_SCANS:-0}
+  if [[ $scans -gt 0 ]]; then
+    street=$out/streams/lidar_street_$scans
+    # The generator's scans are 0.8 m apart: a street long enough for them.
+    [[ -d $street/lidar ]] || "$terramesh" generate street --length-m $((scans * 4 / 5 + 60)) --seed 1 --lidar \
+      -o "$street" --quiet
+    lidar_row "street_$scans" "$street/lidar" --poses "$street/lidar/poses.txt" --frames "0:$((scans - 1))"
+  fi
 fi
