@@ -37,28 +37,38 @@ void RayStore::destroy(RayId id) {
 void RayStore::registerPath(RayId id, std::size_t from) {
   Ray& ray = rays_[id];
   assert(ray.slots.size() == from);
-  for (std::size_t step = from; step < ray.path.size(); ++step) {
-    std::uint32_t& slot = ray.path[step]->info().ray_list;
-    if (slot == kNone) {
-      if (!free_lists_.empty()) {
-        slot = free_lists_.back();
-        free_lists_.pop_back();
-      } else {
-        slot = static_cast<std::uint32_t>(lists_.size());
-        lists_.emplace_back();
-      }
-    }
-    std::vector<Crossing>& list = lists_[slot];
-    ray.slots.push_back(static_cast<std::uint32_t>(list.size()));
-    list.push_back({id, static_cast<std::uint32_t>(step)});
-  }
+  for (std::size_t step = from; step < ray.path.size(); ++step) enterList(ray, id, step);
   path_entries_ += ray.path.size() - from;
 }
 
-void RayStore::truncatePath(RayId id, std::size_t length) {
+void RayStore::enterList(Ray& ray, RayId id, std::size_t step) {
+  std::uint32_t& slot = ray.path[step]->info().ray_list;
+  if (slot == kNone) {
+    if (!free_lists_.empty()) {
+      slot = free_lists_.back();
+      free_lists_.pop_back();
+    } else {
+      slot = static_cast<std::uint32_t>(lists_.size());
+      lists_.emplace_back();
+    }
+  }
+  std::vector<Crossing>& list = lists_[slot];
+  if (ray.slots.size() <= step) ray.slots.resize(step + 1);
+  ray.slots[step] = static_cast<std::uint32_t>(list.size());
+  list.push_back({id, static_cast<std::uint32_t>(step)});
+}
+
+void RayStore::renumberFrom(const Ray& ray, std::size_t from) {
+  for (std::size_t step = from; step < ray.path.size(); ++step) {
+    lists_[ray.path[step]->info().ray_list][ray.slots[step]].step = static_cast<std::uint32_t>(step);
+  }
+}
+
+void RayStore::erasePath(RayId id, std::size_t from, std::size_t to) {
   Ray& ray = rays_[id];
-  assert(length <= ray.path.size() && ray.slots.size() == ray.path.size());
-  for (std::size_t step = length; step < ray.path.size(); ++step) {
+  assert(from <= to && to <= ray.path.size() && ray.slots.size() == ray.path.size());
+  if (from == to) return;
+  for (std::size_t step = from; step < to; ++step) {
     std::uint32_t& list_slot = ray.path[step]->info().ray_list;
     std::vector<Crossing>& list = lists_[list_slot];
     const std::uint32_t position = ray.slots[step];
@@ -74,9 +84,23 @@ void RayStore::truncatePath(RayId id, std::size_t length) {
       list_slot = kNone;
     }
   }
-  path_entries_ -= ray.path.size() - length;
-  ray.path.resize(length);
-  ray.slots.resize(length);
+  path_entries_ -= to - from;
+  const auto first = static_cast<std::ptrdiff_t>(from), last = static_cast<std::ptrdiff_t>(to);
+  ray.path.erase(ray.path.begin() + first, ray.path.begin() + last);
+  ray.slots.erase(ray.slots.begin() + first, ray.slots.begin() + last);
+  renumberFrom(ray, from);
+}
+
+void RayStore::insertPath(RayId id, std::size_t at, const std::vector<CellHandle>& cells) {
+  Ray& ray = rays_[id];
+  assert(at <= ray.path.size() && ray.slots.size() == ray.path.size());
+  if (cells.empty()) return;
+  const auto where = static_cast<std::ptrdiff_t>(at);
+  ray.path.insert(ray.path.begin() + where, cells.begin(), cells.end());
+  ray.slots.insert(ray.slots.begin() + where, cells.size(), 0u);
+  renumberFrom(ray, at + cells.size());
+  for (std::size_t step = at; step < at + cells.size(); ++step) enterList(ray, id, step);
+  path_entries_ += cells.size();
 }
 
 const std::vector<Crossing>& RayStore::crossing(const CellHandle& cell) const {

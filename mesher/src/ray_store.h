@@ -15,6 +15,9 @@ enum RayFlag : std::uint8_t {
   kRayNewSegment = 1u << 2,  ///< its segment is new or changed since it was last traced
   kRayMarked = 1u << 3,      ///< scratch: member of the batch being processed
   kRayPartial = 1u << 4,     ///< `path` is a still-valid prefix; the walk resumes from its end
+  /// `path` is a still-valid prefix [0, gap) and a still-valid tail [gap, end); the walk between
+  /// them is redone (from the prefix's last cell until it enters the tail's first).
+  kRayGap = 1u << 5,
 };
 
 /// How a ray's path was walked: straight from the camera, or from a displaced camera.
@@ -27,6 +30,8 @@ struct Ray {
   std::uint8_t flags = 0;
   /// kWalkedStraight, or 1 + the displacement used for a degenerate ray (see RayWalker).
   std::uint8_t walk = kWalkedStraight;
+  /// With kRayGap: where the tail starts in `path`.
+  std::uint32_t gap = 0;
   std::vector<CellHandle> path;
   /// slots[i]: where this ray's entry sits in the ray list of path[i] (for O(1) removal).
   std::vector<std::uint32_t> slots;
@@ -58,8 +63,13 @@ class RayStore {
   /// Enters path[from, end) of a ray (just appended by a walk) into the cells' ray lists.
   void registerPath(RayId id, std::size_t from);
   /// Shortens a ray's path to its first `length` steps, leaving the dropped cells' lists.
-  void truncatePath(RayId id, std::size_t length);
+  void truncatePath(RayId id, std::size_t length) { erasePath(id, length, rays_[id].path.size()); }
   void clearPath(RayId id) { truncatePath(id, 0); }
+  /// Removes path[from, to) of a ray, leaving those cells' lists; the steps after it move down.
+  void erasePath(RayId id, std::size_t from, std::size_t to);
+  /// Inserts `cells` into a ray's path before step `at`, entering them into the cells' lists; the
+  /// steps from `at` on move up.
+  void insertPath(RayId id, std::size_t at, const std::vector<CellHandle>& cells);
 
   /// Rays crossing `cell` (empty when none).
   const std::vector<Crossing>& crossing(const CellHandle& cell) const;
@@ -71,6 +81,11 @@ class RayStore {
 
  private:
   friend class CheckpointAccess;
+
+  /// Enters path[step] of a ray into that cell's list (slots[step] set, grown if needed).
+  void enterList(Ray& ray, RayId id, std::size_t step);
+  /// Rewrites the step of every list entry of path[from, end) (after steps moved).
+  void renumberFrom(const Ray& ray, std::size_t from);
 
   std::vector<Ray> rays_;
   std::vector<RayId> free_rays_;

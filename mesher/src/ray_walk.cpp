@@ -71,6 +71,20 @@ bool RayWalker::resume(const Point& camera_W, VertexHandle target, std::vector<C
   return false;
 }
 
+bool RayWalker::bridge(const Point& camera_W, VertexHandle target, const std::vector<CellHandle>& path,
+                       std::size_t gap, std::vector<CellHandle>& between, WalkCounters& counters) const {
+  between.clear();
+  const CellHandle& cell = path[gap - 1];
+  const CellHandle& tail = path[gap];
+  const int entry = gap >= 2 ? cell->index(path[gap - 2]) : -1;
+  if (!walkFrom(cell, entry, camera_W, target, between, counters, tail) || between.empty() ||
+      between.back() != tail) {
+    return false;
+  }
+  between.pop_back();
+  return true;
+}
+
 bool RayWalker::walkStraight(const CameraLocation& camera, VertexHandle target,
                              std::vector<CellHandle>& path, WalkCounters& counters) const {
   const CellHandle cell = camera.cell;
@@ -148,7 +162,7 @@ int RayWalker::exitAfterEntry(const CellHandle& cell, int entry, const Point& q,
 }
 
 bool RayWalker::walkFrom(CellHandle cell, int entry, const Point& q, VertexHandle target,
-                         std::vector<CellHandle>& path, WalkCounters& counters) const {
+                         std::vector<CellHandle>& path, WalkCounters& counters, const CellHandle& stop) const {
   const Point& p = target->point();
   int exit = entry < 0 ? exitFromInside(cell, q, p) : exitAfterEntry(cell, entry, q, p, counters);
   // The segment crosses each facet at most once, so no cell is entered twice: a longer walk
@@ -162,6 +176,7 @@ bool RayWalker::walkFrom(CellHandle cell, int entry, const Point& q, VertexHandl
     cell = next;
     path.push_back(cell);
     ++counters.steps;
+    if (cell == stop) return true;
     if (++steps > max_steps) {
       ++counters.step_limit_hits;
       return false;

@@ -56,13 +56,24 @@ class RayWalker {
   bool resume(const Point& camera_W, VertexHandle target, std::vector<CellHandle>& path,
               WalkCounters& counters) const;
 
+  /// Walks the stretch of a straight ray between a prefix and a tail of its path, both still
+  /// valid: from path[gap - 1] (gap >= 1) until the walk enters path[gap]. Fills `between` with the
+  /// cells crossed in between (cleared first). Since the cells a segment crosses are a function of
+  /// the segment and the triangulation, prefix + between + tail is then the ray's whole path.
+  /// Returns false if the walk is degenerate or reaches the target without entering path[gap].
+  bool bridge(const Point& camera_W, VertexHandle target, const std::vector<CellHandle>& path,
+              std::size_t gap, std::vector<CellHandle>& between, WalkCounters& counters) const;
+
  private:
   bool walkStraight(const CameraLocation& camera, VertexHandle target,
                     std::vector<CellHandle>& path, WalkCounters& counters) const;
-  /// Walks on from `cell` (the last cell of `path`), entered through facet `entry`, or containing
-  /// the camera when `entry` is negative. False on degenerate geometry.
+  /// Walks on from `cell` (the last cell of `path`, or the cell before it), entered through facet
+  /// `entry`, or containing the camera when `entry` is negative, appending the cells crossed. Ends
+  /// at the first cell incident to `target`, or at `stop` (appended too) if it comes first. False
+  /// on degenerate geometry.
   bool walkFrom(CellHandle cell, int entry, const Point& q, VertexHandle target,
-                std::vector<CellHandle>& path, WalkCounters& counters) const;
+                std::vector<CellHandle>& path, WalkCounters& counters,
+                const CellHandle& stop = CellHandle()) const;
   /// The facet through which segment q->p leaves a cell it contains, or -1 if not strict.
   int exitFromInside(const CellHandle& cell, const Point& q, const Point& p) const;
   /// The facet through which segment q->p leaves `cell` after entering through `entry`, or -1.

@@ -27,13 +27,13 @@ bool VisibilityTracer::drivenRay(const Ray& ray) const {
   return state_.registry.point(ray.point).kind == PointKind::kDrivenGround;
 }
 
-void VisibilityTracer::withdrawSuffix(Ray& ray, std::size_t from, std::uint32_t mark) {
-  // In a complete path the last cell (the cone's apex) does not spread; in a partial one every
-  // cell does (the ray goes on beyond it).
+void VisibilityTracer::withdrawRange(Ray& ray, std::size_t from, std::size_t to, std::uint32_t mark) {
+  // In a path that ends at the point the last cell (the cone's apex) does not spread; in a prefix
+  // every cell does (the ray goes on beyond it).
   const bool complete = !(ray.flags & kRayPartial);
   const bool driven = drivenRay(ray);
   const std::size_t size = ray.path.size();
-  for (std::size_t i = from; i < size; ++i) {
+  for (std::size_t i = from; i < to; ++i) {
     const CellHandle& cell = ray.path[i];
     noteChange(cell, mark);
     assert(cell->info().crossings > 0);
@@ -49,9 +49,9 @@ void VisibilityTracer::untrace(const std::vector<RayId>& batch) {
   for (RayId id : batch) {
     Ray& ray = rays[id];
     if (!(ray.flags & kRayTraced)) continue;
-    withdrawSuffix(ray, 0, mark);
+    withdrawRange(ray, 0, ray.path.size(), mark);
     rays.clearPath(id);
-    ray.flags &= static_cast<std::uint8_t>(~(kRayTraced | kRayPartial));
+    ray.flags &= static_cast<std::uint8_t>(~(kRayTraced | kRayPartial | kRayGap));
   }
   applyChanges();
 }
@@ -60,29 +60,49 @@ void VisibilityTracer::truncateAtDoomed(const std::vector<RayId>& batch, std::ui
   RayStore& rays = state_.rays;
   // Find every cut before marking anything: the vote bookkeeping reuses the cell marks.
   cuts_.clear();
-  for (RayId id : batch) {
-    const Ray& ray = rays[id];
-    std::size_t cut = 0;
-    if (ray.walk == kWalkedStraight) {
-      while (cut < ray.path.size() && ray.path[cut]->info().mark != doomed_mark) ++cut;
-    }
-    cuts_.push_back(cut);
-  }
+  for (RayId id : batch) cuts_.push_back(doomedStretch(rays[id], doomed_mark));
   const std::uint32_t mark = state_.nextMark();
   for (std::size_t b = 0; b < batch.size(); ++b) {
     const RayId id = batch[b];
     Ray& ray = rays[id];
     if (!(ray.flags & kRayTraced)) continue;
-    withdrawSuffix(ray, cuts_[b], mark);
-    // The ray leaves the lists of its withdrawn cells only; its prefix cells keep it.
-    rays.truncatePath(id, cuts_[b]);
-    if (cuts_[b] == 0) {
-      ray.flags &= static_cast<std::uint8_t>(~(kRayTraced | kRayPartial));
+    const auto [from, to] = cuts_[b];
+    if (from == to) continue;
+    const bool tail = to < ray.path.size();
+    withdrawRange(ray, from, to, mark);
+    // The ray leaves the lists of its withdrawn cells only; its other cells keep it.
+    rays.erasePath(id, from, to);
+    if (from == 0) {
+      ray.flags &= static_cast<std::uint8_t>(~(kRayTraced | kRayPartial | kRayGap));
+    } else if (tail) {
+      ray.flags |= kRayGap;
+      ray.gap = static_cast<std::uint32_t>(from);
     } else {
-      ray.flags |= kRayPartial;
+      ray.flags = static_cast<std::uint8_t>((ray.flags | kRayPartial) & ~kRayGap);
     }
   }
   applyChanges();
+}
+
+std::pair<std::size_t, std::size_t> VisibilityTracer::doomedStretch(const Ray& ray, std::uint32_t doomed_mark) const {
+  const std::size_t size = ray.path.size();
+  // Rays walked from a displaced camera are walked again whole.
+  if (ray.walk != kWalkedStraight) return {0, size};
+  std::size_t first = size, last = 0;
+  for (std::size_t i = 0; i < size; ++i) {
+    if (ray.path[i]->info().mark != doomed_mark) continue;
+    first = std::min(first, i);
+    last = i;
+  }
+  if (first == size) return {size, size};
+  std::size_t from = first, to = last + 1;
+  // A stretch withdrawn earlier in this update joins this one; a prefix has nothing after it.
+  if (ray.flags & kRayGap) {
+    from = std::min<std::size_t>(from, ray.gap);
+    to = std::max<std::size_t>(to, ray.gap);
+  }
+  if ((ray.flags & kRayPartial) || from == 0) to = size;
+  return {from, to};
 }
 
 void VisibilityTracer::addVotes(RayId id, std::size_t from, std::uint32_t mark) {
@@ -99,6 +119,23 @@ void VisibilityTracer::addVotes(RayId id, std::size_t from, std::uint32_t mark) 
   }
   // The old last cell of a resumed prefix already counted as spreading.
   state_.rays.registerPath(id, from);
+}
+
+bool VisibilityTracer::bridgeGap(RayId id, VertexHandle target, std::uint32_t mark, WalkCounters& counters) {
+  Ray& ray = state_.rays[id];
+  const Point camera_W = toPoint(state_.registry.keyframe(ray.keyframe).centre_W);
+  if (!walker_.bridge(camera_W, target, ray.path, ray.gap, between_, counters)) return false;
+  // Every cell in between spreads: the ray goes on to its tail.
+  const bool driven = drivenRay(ray);
+  for (const CellHandle& cell : between_) {
+    noteChange(cell, mark);
+    ++cell->info().crossings;
+    if (driven) ++cell->info().driven_crossings;
+    ++cell->info().spreading;
+  }
+  state_.rays.insertPath(id, ray.gap, between_);
+  ray.flags &= static_cast<std::uint8_t>(~kRayGap);
+  return true;
 }
 
 CameraLocation VisibilityTracer::locateCamera(std::uint32_t keyframe) {
@@ -125,6 +162,11 @@ void VisibilityTracer::trace(const std::vector<RayId>& batch, WalkCounters& coun
     Ray& ray = rays[id];
     ray.flags &= static_cast<std::uint8_t>(~(kRayNeedsTrace | kRayNewSegment));
     const VertexHandle target = state_.registry.point(ray.point).vertex;
+    if (ray.flags & kRayGap) {
+      if (bridgeGap(id, target, mark, counters)) continue;
+      restart.push_back(id);  // degenerate in between: walked again from scratch below
+      continue;
+    }
     if (ray.flags & kRayPartial) {
       const std::size_t prefix = ray.path.size();
       const Point camera_W = toPoint(state_.registry.keyframe(ray.keyframe).centre_W);

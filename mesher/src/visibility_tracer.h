@@ -1,5 +1,6 @@
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "map_state.h"
@@ -20,9 +21,11 @@ class VisibilityTracer {
   void untrace(const std::vector<RayId>& batch);
 
   /// Cells marked `doomed_mark` are about to be destroyed. For each ray of `batch` (all crossing
-  /// such cells), keeps the prefix of its path before the first doomed cell (flagged kRayPartial:
-  /// still voting, to be walked on from its end) and withdraws the votes of the rest. Rays walked
-  /// from a displaced camera, or whose first cell is doomed, lose their whole path.
+  /// such cells), withdraws the votes of the stretch of its path from the first doomed cell to the
+  /// last and keeps the rest: a prefix and a tail (flagged kRayGap: both still voting, the stretch
+  /// between them to be walked again), or a prefix alone when the last cell is doomed (flagged
+  /// kRayPartial: walked on from its end). Rays walked from a displaced camera, or whose first
+  /// cell is doomed, lose their whole path.
   void truncateAtDoomed(const std::vector<RayId>& batch, std::uint32_t doomed_mark);
 
   /// Walks and votes for every ray in `batch` that is not fully traced (resuming partial rays);
@@ -39,8 +42,13 @@ class VisibilityTracer {
   /// Remembers the crossing count of `cell` before this batch changed it.
   void noteChange(const CellHandle& cell, std::uint32_t mark);
   void applyChanges();
-  /// Withdraws the votes of path[from, end) of a ray (flagged kRayMarked for list removal).
-  void withdrawSuffix(Ray& ray, std::size_t from, std::uint32_t mark);
+  /// Withdraws the votes of path[from, to) of a ray.
+  void withdrawRange(Ray& ray, std::size_t from, std::size_t to, std::uint32_t mark);
+  /// The stretch [from, to) of a ray's path that truncateAtDoomed withdraws ({size, size}: none).
+  std::pair<std::size_t, std::size_t> doomedStretch(const Ray& ray, std::uint32_t doomed_mark) const;
+  /// Walks and votes for the stretch of a kRayGap ray between its prefix and its tail. False (the
+  /// ray unchanged) if that walk is degenerate.
+  bool bridgeGap(RayId id, VertexHandle target, std::uint32_t mark, WalkCounters& counters);
   /// Whether the ray ends at a driven-ground sample (its crossings count as driven_crossings).
   bool drivenRay(const Ray& ray) const;
   /// Votes for path[from, end) of a ray; `complete` when the path now ends at the point.
@@ -55,7 +63,8 @@ class VisibilityTracer {
   };
   std::vector<Change> changed_;
   std::vector<RayId> order_;
-  std::vector<std::size_t> cuts_;
+  std::vector<std::pair<std::size_t, std::size_t>> cuts_;
+  std::vector<CellHandle> between_;
 
 };
 

@@ -1,6 +1,7 @@
 // The straight walk with next-tetrahedron caching against CGAL's segment traverser.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "cgal_types.h"
@@ -75,6 +76,61 @@ TEST_F(RayWalkTest, MatchesCgalsSegmentTraverserWithAndWithoutCache) {
   EXPECT_GT(cached_counters.cache_hits, 0u);
   EXPECT_EQ(plain_counters.cache_lookups, 0u);
   EXPECT_EQ(rays, 3000u);
+}
+
+TEST_F(RayWalkTest, BridgingACutStretchGivesTheFreshWalk) {
+  // A point inserted near the middle of a stored path destroys a stretch of it. Walking from the
+  // prefix's last cell until the walk enters the tail's first must give, with the prefix and the
+  // tail kept, the path a fresh walk finds, in fewer steps.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coordinate(-9.0, 9.0);
+  std::uniform_real_distribution<double> along(0.35, 0.65);
+  RayWalker walker(tri_, true);
+  std::vector<CellHandle> path, between, fresh;
+  std::size_t bridged = 0, bridge_steps = 0, fresh_steps = 0;
+  for (int r = 0; r < 400 && bridged < 60; ++r) {
+    const CameraLocation camera = locate(Point(coordinate(rng), coordinate(rng), coordinate(rng)));
+    const VertexHandle target = vertices_[rng() % vertices_.size()];
+    WalkCounters counters;
+    if (walker.walk(camera, target, path, counters) != kWalkedStraight || path.size() < 12) continue;
+    // A new point just off the segment, within its middle third.
+    const Eigen::Vector3d q = toEigen(camera.position), p = toEigen(target->point());
+    const Eigen::Vector3d offset(0.013, -0.007, 0.011);
+    const Point inserted = toPoint(q + along(rng) * (p - q) + offset);
+    std::vector<CellHandle> doomed;
+    tri_.find_conflicts(inserted, tri_.locate(inserted), CGAL::Emptyset_iterator(),
+                        std::back_inserter(doomed));
+    const auto isDoomed = [&](const CellHandle& c) {
+      return std::find(doomed.begin(), doomed.end(), c) != doomed.end();
+    };
+    std::size_t first = path.size(), last = 0;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      if (!isDoomed(path[i])) continue;
+      first = std::min(first, i);
+      last = i;
+    }
+    if (first == path.size() || first == 0 || last + 1 >= path.size()) continue;
+    std::vector<CellHandle> kept(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(first));
+    kept.insert(kept.end(), path.begin() + static_cast<std::ptrdiff_t>(last + 1), path.end());
+    vertices_.push_back(tri_.insert(inserted));
+    WalkCounters bridge_counters;
+    ASSERT_TRUE(walker.bridge(camera.position, target, kept, first, between, bridge_counters))
+        << "ray " << r;
+    kept.insert(kept.begin() + static_cast<std::ptrdiff_t>(first), between.begin(), between.end());
+    WalkCounters fresh_counters;
+    ASSERT_EQ(walker.walk(locate(camera.position), target, fresh, fresh_counters), kWalkedStraight);
+    ASSERT_EQ(kept, fresh) << "ray " << r;
+    bridge_steps += bridge_counters.steps;
+    fresh_steps += fresh_counters.steps;
+    ++bridged;
+    // A tail cell the segment never enters: the walk reaches the target and says so.
+    const std::vector<CellHandle> wrong{fresh.front(), vertices_.front()->cell()};
+    if (std::find(fresh.begin(), fresh.end(), wrong.back()) == fresh.end()) {
+      EXPECT_FALSE(walker.bridge(camera.position, target, wrong, 1, between, bridge_counters));
+    }
+  }
+  ASSERT_GE(bridged, 30u);
+  EXPECT_LT(2 * bridge_steps, fresh_steps) << "the bridge walks the cut stretch, not the tail";
 }
 
 /// A path is a chain of face-adjacent cells from one containing the camera to one at the target.
