@@ -115,17 +115,15 @@ void TriangulationEditor::sortByVertexKeys(std::vector<CellHandle>& cells) const
 
 void TriangulationEditor::untraceCrossing(const std::vector<CellHandle>& doomed,
                                           std::vector<RayId>& retrace) {
-  const std::uint32_t doomed_mark = state_.nextMark();
-  for (const CellHandle& cell : doomed) cell->info().mark = doomed_mark;
-  batch_.clear();
+  crossings_.clear();
   for (const CellHandle& cell : doomed) {
-    for (const Crossing& crossing : state_.rays.crossing(cell)) batch_.push_back(crossing.ray);
+    const std::vector<Crossing>& list = state_.rays.crossing(cell);
+    crossings_.insert(crossings_.end(), list.begin(), list.end());
   }
-  if (batch_.empty()) return;
-  std::sort(batch_.begin(), batch_.end());
-  batch_.erase(std::unique(batch_.begin(), batch_.end()), batch_.end());
-  // Only what lies beyond the first doomed cell of each ray is withdrawn and walked again.
-  tracer_.truncateAtDoomed(batch_, doomed_mark);
+  if (crossings_.empty()) return;
+  // Only the stretch of each ray from its first doomed cell to its last is withdrawn and walked
+  // again.
+  tracer_.truncateAtDoomed(crossings_, batch_);
   for (RayId id : batch_) {
     Ray& ray = state_.rays[id];
     if (ray.flags & kRayNeedsTrace) continue;

@@ -52,6 +52,7 @@ class TriangulationEditor {
   std::vector<Facet> boundary_facets_;
   std::vector<CellHandle> new_cells_;
   std::vector<RayId> batch_;
+  std::vector<Crossing> crossings_;
 };
 
 }  // namespace terramesh::mesher::internal

@@ -56,18 +56,23 @@ void VisibilityTracer::untrace(const std::vector<RayId>& batch) {
   applyChanges();
 }
 
-void VisibilityTracer::truncateAtDoomed(const std::vector<RayId>& batch, std::uint32_t doomed_mark) {
+void VisibilityTracer::truncateAtDoomed(std::vector<Crossing>& doomed, std::vector<RayId>& batch) {
   RayStore& rays = state_.rays;
-  // Find every cut before marking anything: the vote bookkeeping reuses the cell marks.
-  cuts_.clear();
-  for (RayId id : batch) cuts_.push_back(doomedStretch(rays[id], doomed_mark));
+  std::sort(doomed.begin(), doomed.end(), [](const Crossing& a, const Crossing& b) {
+    return a.ray < b.ray || (a.ray == b.ray && a.step < b.step);
+  });
+  batch.clear();
   const std::uint32_t mark = state_.nextMark();
-  for (std::size_t b = 0; b < batch.size(); ++b) {
-    const RayId id = batch[b];
+  for (std::size_t i = 0; i < doomed.size();) {
+    // The crossings of one ray: its first and last doomed steps.
+    std::size_t j = i;
+    while (j + 1 < doomed.size() && doomed[j + 1].ray == doomed[i].ray) ++j;
+    const RayId id = doomed[i].ray;
+    const auto [from, to] = stretchToWithdraw(rays[id], doomed[i].step, doomed[j].step);
+    i = j + 1;
+    batch.push_back(id);
     Ray& ray = rays[id];
-    if (!(ray.flags & kRayTraced)) continue;
-    const auto [from, to] = cuts_[b];
-    if (from == to) continue;
+    if (!(ray.flags & kRayTraced) || from == to) continue;
     const bool tail = to < ray.path.size();
     withdrawRange(ray, from, to, mark);
     // The ray leaves the lists of its withdrawn cells only; its other cells keep it.
@@ -84,17 +89,11 @@ void VisibilityTracer::truncateAtDoomed(const std::vector<RayId>& batch, std::ui
   applyChanges();
 }
 
-std::pair<std::size_t, std::size_t> VisibilityTracer::doomedStretch(const Ray& ray, std::uint32_t doomed_mark) const {
+std::pair<std::size_t, std::size_t> VisibilityTracer::stretchToWithdraw(const Ray& ray, std::size_t first,
+                                                                        std::size_t last) const {
   const std::size_t size = ray.path.size();
   // Rays walked from a displaced camera are walked again whole.
   if (ray.walk != kWalkedStraight) return {0, size};
-  std::size_t first = size, last = 0;
-  for (std::size_t i = 0; i < size; ++i) {
-    if (ray.path[i]->info().mark != doomed_mark) continue;
-    first = std::min(first, i);
-    last = i;
-  }
-  if (first == size) return {size, size};
   std::size_t from = first, to = last + 1;
   // A stretch withdrawn earlier in this update joins this one; a prefix has nothing after it.
   if (ray.flags & kRayGap) {

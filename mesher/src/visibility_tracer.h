@@ -20,13 +20,13 @@ class VisibilityTracer {
   /// paths are cleared; flags other than kRayTraced and kRayPartial are kept.
   void untrace(const std::vector<RayId>& batch);
 
-  /// Cells marked `doomed_mark` are about to be destroyed. For each ray of `batch` (all crossing
-  /// such cells), withdraws the votes of the stretch of its path from the first doomed cell to the
-  /// last and keeps the rest: a prefix and a tail (flagged kRayGap: both still voting, the stretch
-  /// between them to be walked again), or a prefix alone when the last cell is doomed (flagged
-  /// kRayPartial: walked on from its end). Rays walked from a displaced camera, or whose first
-  /// cell is doomed, lose their whole path.
-  void truncateAtDoomed(const std::vector<RayId>& batch, std::uint32_t doomed_mark);
+  /// The cells of the crossings `doomed` (every crossing of them) are about to be destroyed. For
+  /// each ray crossing them, withdraws the votes of the stretch of its path from the first doomed
+  /// cell to the last and keeps the rest: a prefix and a tail (flagged kRayGap: both still voting,
+  /// the stretch between them to be walked again), or a prefix alone when the last cell is doomed
+  /// (flagged kRayPartial: walked on from its end). Rays walked from a displaced camera, or whose
+  /// first cell is doomed, lose their whole path. Sorts `doomed`; fills `batch` with the rays.
+  void truncateAtDoomed(std::vector<Crossing>& doomed, std::vector<RayId>& batch);
 
   /// Walks and votes for every ray in `batch` that is not fully traced (resuming partial rays);
   /// clears kRayNeedsTrace and kRayNewSegment.
@@ -44,8 +44,9 @@ class VisibilityTracer {
   void applyChanges();
   /// Withdraws the votes of path[from, to) of a ray.
   void withdrawRange(Ray& ray, std::size_t from, std::size_t to, std::uint32_t mark);
-  /// The stretch [from, to) of a ray's path that truncateAtDoomed withdraws ({size, size}: none).
-  std::pair<std::size_t, std::size_t> doomedStretch(const Ray& ray, std::uint32_t doomed_mark) const;
+  /// The stretch [from, to) of a ray's path that truncateAtDoomed withdraws, given the first and
+  /// the last step of it that is doomed.
+  std::pair<std::size_t, std::size_t> stretchToWithdraw(const Ray& ray, std::size_t first, std::size_t last) const;
   /// Walks and votes for the stretch of a kRayGap ray between its prefix and its tail. False (the
   /// ray unchanged) if that walk is degenerate.
   bool bridgeGap(RayId id, VertexHandle target, std::uint32_t mark, WalkCounters& counters);
@@ -63,7 +64,6 @@ class VisibilityTracer {
   };
   std::vector<Change> changed_;
   std::vector<RayId> order_;
-  std::vector<std::pair<std::size_t, std::size_t>> cuts_;
   std::vector<CellHandle> between_;
 
 };
