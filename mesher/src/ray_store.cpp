@@ -37,6 +37,7 @@ void RayStore::destroy(RayId id) {
 void RayStore::registerPath(RayId id, std::size_t from) {
   Ray& ray = rays_[id];
   assert(ray.slots.size() == from);
+  ray.slots.reserve(ray.path.size());
   for (std::size_t step = from; step < ray.path.size(); ++step) enterList(ray, id, step);
   path_entries_ += ray.path.size() - from;
 }

@@ -182,7 +182,9 @@ void VisibilityTracer::trace(const std::vector<RayId>& batch, WalkCounters& coun
       camera = locateCamera(ray.keyframe);
       located = ray.keyframe;
     }
-    ray.walk = walker_.walk(camera, target, ray.path, counters);
+    // Walked into a scratch path, then stored at its exact size (one allocation, no slack).
+    ray.walk = walker_.walk(camera, target, walked_, counters);
+    ray.path.assign(walked_.begin(), walked_.end());
     addVotes(id, 0, mark);
     ray.flags |= kRayTraced;
   }

@@ -65,6 +65,7 @@ class VisibilityTracer {
   std::vector<Change> changed_;
   std::vector<RayId> order_;
   std::vector<CellHandle> between_;
+  std::vector<CellHandle> walked_;
 
 };
 
