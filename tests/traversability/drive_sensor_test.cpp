@@ -37,13 +37,13 @@ LidScene lidScene(double lid_z) {
   return scene;
 }
 
-/// The layers of the driven faces left of the centre line (centroid y in [0.15, 0.85]) whose
-/// footprint turned along the drive reaches under the lid.
+/// The layers of the driven faces left of the centre line, not reaching it (centroid y in [0.3,
+/// 0.85]: judged at the centroid), whose footprint turned along the drive reaches under the lid.
 std::vector<FaceLayers> besideLid(const LidScene& scene, const std::map<mesher::FaceKey, FaceLayers>& layers) {
   std::vector<FaceLayers> out;
   for (std::size_t f = 0; f < scene.floor_faces; ++f) {
     const Eigen::Vector3d c = centroid(scene.mesh, f);
-    if (scene.faces[f].driven_vertices != 3 || c.y() < 0.15 || c.y() > 0.85 || c.x() < 0.5 || c.x() > 3.5) continue;
+    if (scene.faces[f].driven_vertices != 3 || c.y() < 0.3 || c.y() > 0.85 || c.x() < 0.5 || c.x() > 3.5) continue;
     out.push_back(layers.at(scene.faces[f].key));
   }
   return out;

@@ -164,5 +164,52 @@ TEST(ObstacleExtensionTest, OnDrivenGroundAnObstacleMayExtendOnlyBeyondTheStripT
   }
 }
 
+TEST(ObstacleExtensionTest, AFaceTheDriveCrossedIsJudgedWhereTheDriveStoodOnIt) {
+  // A strip driven along y = 0 whose samples lie on four rails (y = +-0.12 and +-0.34, a car's
+  // layout): the faces between the inner rails straddle the drive's centre line, with centroids
+  // 0.04 m off it. The wall of the test above, beyond the strip, may extend to within 0.04 m of the
+  // strip's side. Centred on such a centroid the footprint would reach 0.04 m past the side; the
+  // drive put the robot on the centre line there, and judged there it stays inside the strip: free.
+  // Faces between the outer rails do not reach the centre line: they are judged at their centroid,
+  // and stay uncertain where their footprint reaches the wall's extension.
+  const RobotProfile profile = smallWheeled();
+  const double half = profile.footprint_radius_m;
+  const std::vector<double> ys = {-3, -2, -1, -0.6, -half, -0.12, 0.12, half, 0.6, 1, 2, 3};
+  mesher::TriangleMesh mesh;
+  for (int i = 0; i <= 12; ++i) {
+    for (const double y : ys) mesh.vertices.emplace_back(-3 + 0.5 * i, y, 0);
+  }
+  const auto at = [&](int i, std::size_t j) {
+    return static_cast<std::uint32_t>(static_cast<std::size_t>(i) * ys.size() + j);
+  };
+  for (int i = 0; i < 12; ++i) {
+    for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
+      mesh.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  const std::size_t floor_faces = mesh.faces.size();
+  test::appendMesh(mesh, wallFacingPlusX(0, 0.6, 3, 0.4));
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  driveAlongX(faces, floor_faces, half);
+  const std::map<mesher::FaceKey, FaceLayers> layers = layersByKey(faces, profile, basesAlongX(mesh));
+  std::size_t crossed = 0, beside = 0;
+  for (std::size_t f = 0; f < floor_faces; ++f) {
+    const Eigen::Vector3d c = centroid(mesh, f);
+    if (faces[f].driven_vertices != 3 || c.x() < -0.5 || c.x() > 0) continue;
+    const FaceLayers& got = layers.at(faces[f].key);
+    if (std::abs(c.y()) < 0.1) {
+      ++crossed;
+      EXPECT_EQ(got.face_class, FaceClass::kFree) << "at (" << c.x() << ", " << c.y() << ")";
+    } else if (c.y() > 0.12) {
+      ++beside;
+      EXPECT_EQ(got.face_class, FaceClass::kUncertain) << "at (" << c.x() << ", " << c.y() << ")";
+      EXPECT_TRUE(got.reasons & reason::kObstacleExtension);
+    }
+  }
+  EXPECT_EQ(crossed, 2u);
+  EXPECT_EQ(beside, 2u);
+}
+
 }  // namespace
 }  // namespace terramesh::traversability

@@ -402,6 +402,9 @@ LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
   const int n_points = obstaclePoints(f, r.steep, points);
   double spread = 0;
   for (int i = 0; i < n_points; ++i) spread = std::max(spread, points[static_cast<std::size_t>(i)].norm());
+  // A face the drive crossed is judged on its centre line once its evidence is driven, which may
+  // change after this window is set: the window holds that point whatever the evidence.
+  spread = std::max(spread, centreLinePoint(f).norm());
   // Measured obstacles may extend up to max_obstacle_extension_m beyond their faces.
   r.window.obstacle_reach_m = footprintReachM(profile_.evidence.max_obstacle_extension_m) + spread;
   const double reach = r.window.obstacle_reach_m;

@@ -243,6 +243,11 @@ class LayerComputer {
   /// its centroid only. Returns how many (1 or kObstaclePoints).
   int obstaclePoints(const StoredFace& face, bool steep, std::array<Eigen::Vector2d, 9>& points) const;
   static constexpr int kObstaclePoints = 9;
+  /// For a face with a drive axis that reaches the drive's centre line (within
+  /// kCentreLineToleranceM): the point of the face on that line nearest its centroid, relative to
+  /// the centroid (horizontal); else zero. The drive put the robot there, at its heading of travel.
+  Eigen::Vector2d centreLinePoint(const StoredFace& face) const;
+  static constexpr double kCentreLineToleranceM = 0.02;
 
   /// The footprint layers at one heading.
   struct HeadingResult {
@@ -303,14 +308,15 @@ class LayerComputer {
   void collectSupportedParts(const StoredFace& f, const SampleGeometry& t, const Eigen::Vector3d& c, double ref_a,
                              double ref_b) const;
   /// Per heading, the top of the highest measured obstacle (obstacles_) the footprint meets, 0 if
-  /// none, for face f judged at its obstacle points (see obstaclePoints; rule in the .cpp); and in
-  /// possible_, per heading, the reason:: bit of the first possible obstacle the footprint at the
-  /// centroid meets (an interpolated one, the possible extension of a measured one, an
-  /// unconfirmed point; 0: none).
+  /// none, for face f judged first at judged_at_ (its centroid, or for a driven face where the
+  /// drive stood on it: centreLinePoint), then at its obstacle points (see obstaclePoints; rule in
+  /// the .cpp); and in possible_, per heading, the reason:: bit of the first possible obstacle the
+  /// footprint at judged_at_ meets (an interpolated one, the possible extension of a measured one,
+  /// an unconfirmed point; 0: none).
   /// The reason:: bit of a possible obstacle (kUnconfirmedPoint, kPossibleObstacle or
   /// kObstacleExtension).
   static std::uint16_t causeOf(const Obstacle& o);
-  /// Every reason:: bit of the possible obstacles the footprint at the centroid meets at `heading`
+  /// Every reason:: bit of the possible obstacles the footprint at judged_at_ meets at `heading`
   /// (after obstacleTops; only asked for the faces that fit nowhere in the worst case).
   std::uint16_t possibleCauses(std::size_t heading) const;
   const std::vector<double>& obstacleTops(const StoredFace& f, bool steep,
@@ -461,6 +467,9 @@ class LayerComputer {
   mutable std::vector<Obstacle> obstacles_;
   mutable std::vector<double> tops_;
   mutable std::vector<std::uint16_t> possible_;
+  /// Where the obstacle test judges the face being computed, relative to its centroid: zero, or
+  /// for a driven face centreLinePoint (where the drive stood on it).
+  mutable Eigen::Vector2d judged_at_ = Eigen::Vector2d::Zero();
   /// The headings of the face being computed that fit as reconstructed but meet a possible obstacle.
   mutable std::vector<std::size_t> fitting_possible_;
   mutable std::vector<Slot> neighbours_;

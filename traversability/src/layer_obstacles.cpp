@@ -403,7 +403,7 @@ std::uint16_t LayerComputer::possibleCauses(std::size_t heading) const {
   std::uint16_t causes = 0;
   for (const Obstacle& o : obstacles_) {
     const std::uint16_t cause = causeOf(o);
-    if (!(causes & cause) && meetsExtension(o, heading, Eigen::Vector2d::Zero())) causes |= cause;
+    if (!(causes & cause) && meetsExtension(o, heading, judged_at_)) causes |= cause;
   }
   return causes;
 }
@@ -421,21 +421,23 @@ const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool
     }
     return top;
   };
-  // Possible obstacles at the centroid: interpolated ones, and where measured ones may extend
-  // (the first one met per heading; possibleCauses lists them all where that is asked).
+  const int n = obstaclePoints(f, steep, points);
+  judged_at_ = f.layers.evidence == Evidence::kDriven ? centreLinePoint(f) : Eigen::Vector2d::Zero();
+  // Possible obstacles where the face is judged (its centroid, or where the drive stood on it):
+  // interpolated ones, and where measured ones may extend (the first one met per heading;
+  // possibleCauses lists them all where that is asked).
   for (const Obstacle& o : obstacles_) {
     for (std::size_t k = 0; k < headings; ++k) {
-      if (!possible_[k] && meetsExtension(o, k, Eigen::Vector2d::Zero())) possible_[k] = causeOf(o);
+      if (!possible_[k] && meetsExtension(o, k, judged_at_)) possible_[k] = causeOf(o);
     }
   }
-  const int n = obstaclePoints(f, steep, points);
-  // At the centroid, heading by heading (a heading that collides there does not fit).
-  bool centroid_blocked = true;
+  // There, heading by heading (a heading that collides there does not fit).
+  bool blocked_there = true;
   for (std::size_t k = 0; k < headings; ++k) {
-    tops_[k] = topAt(Eigen::Vector2d::Zero(), k);
-    centroid_blocked = centroid_blocked && tops_[k] > 0;
+    tops_[k] = topAt(judged_at_, k);
+    blocked_there = blocked_there && tops_[k] > 0;
   }
-  if (n == 1 || !centroid_blocked) return tops_;
+  if (n == 1 || !blocked_there) return tops_;
   // A face larger than the footprint, blocked at its centroid: blocked only if the robot also
   // collides (at every heading) at most (more than half) of its points, else the obstacles do not
   // count. A face free at its centroid stays as it was: the points only ever waive a collision.
@@ -489,6 +491,38 @@ bool LayerComputer::overDrivenGround(const SurfaceStore& store, const Eigen::Vec
     if (!found) return false;
   }
   return true;
+}
+
+Eigen::Vector2d LayerComputer::centreLinePoint(const StoredFace& f) const {
+  if (!(f.drive_axis.squaredNorm() > 0)) return Eigen::Vector2d::Zero();
+  // Across the line (the vertices' distances from it) and along it, relative to the centroid.
+  const Eigen::Vector2d n = f.driveNormal(), c = f.centroid_L.head<2>();
+  const double offset = f.driveOffsetM();
+  std::array<double, 3> across{}, along{};
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector2d p = f.p_L[static_cast<std::size_t>(i)].head<2>() - c;
+    across[static_cast<std::size_t>(i)] = n.dot(p) - offset;
+    along[static_cast<std::size_t>(i)] = f.drive_axis.dot(p);
+  }
+  const double lo = *std::min_element(across.begin(), across.end());
+  const double hi = *std::max_element(across.begin(), across.end());
+  // The line the face comes nearest (the centre line itself where the face spans it).
+  const double line = std::clamp(0.0, lo, hi);
+  if (!(std::abs(line) <= kCentreLineToleranceM)) return Eigen::Vector2d::Zero();
+  // The face's chord along that line: where its edges meet it.
+  double first = std::numeric_limits<double>::infinity(), last = -first;
+  for (int i = 0; i < 3; ++i) {
+    const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>((i + 1) % 3);
+    const double da = across[a] - line, db = across[b] - line;
+    if ((da > 0 && db > 0) || (da < 0 && db < 0)) continue;
+    const double t = da == db ? 0.0 : da / (da - db);
+    const double at = along[a] + t * (along[b] - along[a]);
+    first = std::min(first, at);
+    last = std::max(last, at);
+  }
+  if (!(first <= last)) return Eigen::Vector2d::Zero();
+  // The chord's point nearest the centroid's foot on the line (along 0).
+  return (offset + line) * n + std::clamp(0.0, first, last) * f.drive_axis;
 }
 
 }  // namespace terramesh::traversability::internal
