@@ -438,7 +438,7 @@ const std::vector<double>& LayerComputer::obstacleTops(const StoredFace& f, bool
     blocked_there = blocked_there && tops_[k] > 0;
   }
   if (n == 1 || !blocked_there) return tops_;
-  // A face larger than the footprint, blocked at its centroid: blocked only if the robot also
+  // A face larger than the footprint, blocked where it is judged: blocked only if the robot also
   // collides (at every heading) at most (more than half) of its points, else the obstacles do not
   // count. A face free at its centroid stays as it was: the points only ever waive a collision.
   int blocked = 0;
