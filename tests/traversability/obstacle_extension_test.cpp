@@ -3,6 +3,7 @@
 // strip the robot's body swept.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <vector>
@@ -209,6 +210,55 @@ TEST(ObstacleExtensionTest, AFaceTheDriveCrossedIsJudgedWhereTheDriveStoodOnIt) 
   }
   EXPECT_EQ(crossed, 2u);
   EXPECT_EQ(beside, 2u);
+}
+
+TEST(ObstacleExtensionTest, AChangedObstacleRejudgesOnlyTheFacesWithinTheReachOfItsOwnExtension) {
+  // A post 0.1 m wide may extend only obstacle_extension times that beyond itself. Adding it
+  // re-judges the floor faces whose footprint, grown by that, can meet it: not every face within
+  // the reach of the largest extension (max_obstacle_extension_m). The map still equals a full
+  // recomputation. (The post is lower than max_step_m and seen by too few rays to be lethal
+  // itself; the inflation, which re-ranges the faces around any face added, reaches no farther
+  // than the footprint here: the faces recomputed are the faces re-judged.)
+  RobotProfile profile = smallWheeled();
+  profile.inflation_radius_m = profile.inscribed_radius_m;
+  ASSERT_LT(profile.inflation_radius_m, profile.footprintCircumradiusM());
+  const double r = profile.footprintCircumradiusM();
+  const double cap = profile.evidence.max_obstacle_extension_m;
+  const double own = std::min(profile.evidence.obstacle_extension * 0.1, cap);
+  ASSERT_LT(own + 0.2, cap);
+  mesher::TriangleMesh mesh = test::heightFieldMesh(-3, 3, -3, 3, 0.1, [](double, double) { return 0.0; });
+  const std::size_t floor_faces = mesh.faces.size();
+  TraversabilityMap map(profile, MapFrame{});
+  map.reset(facesOf(mesh, 4));
+  test::appendMesh(mesh, wallFacingPlusX(0.03, -0.05, 0.05, 0.5 * profile.max_step_m));
+  std::vector<mesher::SurfaceFace> faces = facesOf(mesh, 4);
+  for (std::size_t f = floor_faces; f < faces.size(); ++f) faces[f].rays = faces[f].front_crossings = 0;
+  mesher::SurfaceDelta delta;
+  delta.added.assign(faces.begin() + static_cast<std::ptrdiff_t>(floor_faces), faces.end());
+  const LayerUpdateStats stats = map.apply(delta, {});
+  // Floor faces whose centroid lies within `reach` of the post (x = 0.03, |y| <= 0.05).
+  const auto within = [&](double reach) {
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < floor_faces; ++f) {
+      const Eigen::Vector3d c = centroid(mesh, f);
+      count += std::hypot(c.x() - 0.03, std::max(0.0, std::abs(c.y()) - 0.05)) <= reach ? 1 : 0;
+    }
+    return count;
+  };
+  EXPECT_GT(stats.faces_recomputed, within(r));
+  EXPECT_LE(stats.faces_recomputed, within(r + own + 0.01) + delta.added.size());
+  EXPECT_LT(stats.faces_recomputed, within(r + cap - 0.1));
+  const std::map<mesher::FaceKey, FaceLayers> fresh = layersByKey(faces, profile);
+  const std::map<mesher::FaceKey, FaceLayers> updated = layersByKey(map);
+  ASSERT_EQ(updated.size(), fresh.size());
+  for (const auto& [key, want] : fresh) {
+    const FaceLayers& got = updated.at(key);
+    EXPECT_EQ(got.face_class, want.face_class);
+    for (const LayerInfo& layer : faceLayerRegistry()) {
+      const double u = layer.get(got), v = layer.get(want);
+      EXPECT_TRUE((std::isnan(u) && std::isnan(v)) || u == v) << layer.name;
+    }
+  }
 }
 
 }  // namespace

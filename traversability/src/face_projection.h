@@ -24,6 +24,8 @@ struct Change {
   FaceBounds bounds;
   bool sampleable = false;
   bool driven = false;
+  /// Its longest horizontal edge (SampleGeometry::span_m): how far its obstacle parts may extend.
+  double span_m = 0;
 };
 
 inline Projection projectionOf(const StoredFace& f) {
@@ -36,7 +38,7 @@ inline Projection projectionOf(const StoredFace& f) {
 inline Change changeOf(const SurfaceStore& store, Slot s) {
   const SampleGeometry& g = store.geometry(s);
   const bool driven = g.driven || store.face(s).driven_vertices >= 2;
-  return {projectionOf(store.face(s)), store.bounds(s), g.sampleable, g.sampleable && driven};
+  return {projectionOf(store.face(s)), store.bounds(s), g.sampleable, g.sampleable && driven, g.span_m};
 }
 
 /// The point of segment ab closest to q.

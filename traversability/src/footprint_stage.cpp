@@ -95,7 +95,8 @@ void FootprintStage::update(SurfaceStore& store, StageChanges& changes) {
       if (marks_.marked(s)) return;
       const Eigen::Vector3d& c = store.centroid(s);
       const double distance = distanceToTriangle(c.head<2>(), p);
-      if ((distance <= reach && computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, distance)) ||
+      if ((distance <= reach &&
+           computer_.mayAffect(c, window_[s], change.bounds, change.sampleable, change.span_m, distance)) ||
           (change.driven && distance <= box &&
            computer_.readsDrivenGround(store.face(s), window_[s], change.bounds, distance)) ||
           computer_.readsColumns(store.face(s), change.sampleable, distance)) {

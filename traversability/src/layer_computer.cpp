@@ -1,4 +1,5 @@
 #include "layer_computer.h"
+#include "footprint_samples.h"
 #include "traversability/layer_registry.h"
 
 #include <Eigen/Dense>
@@ -23,77 +24,6 @@ constexpr int kSamplesPerRadius = 5;
 /// Sample spacings across a rectangle's width (at least): the outermost samples fall within a
 /// quarter of the width of its sides (the car: 0.05 m inside).
 constexpr int kSamplesPerWidth = 4;
-
-/// What a footprint sample found: no ground in its band, ground steeper than max_slope, level.
-constexpr char kNoGround = 0;
-constexpr char kSteepGround = 1;
-constexpr char kLevelGround = 2;
-/// No measured ground in the sample's band, but closing (Steiner) geometry: nobody looked there.
-constexpr char kUnknownGround = 3;
-/// No ground in the sample's band, and its reference point lies in space nobody carved: the first
-/// face above it faces up (matter the rays never reached), or none does (beyond the map). The
-/// surface is closed, so space the rays carved lies under a face that faces down.
-constexpr char kNoDataGround = 4;
-
-/// floor and ceil of a double known to lie well within the int range (std::floor is a library
-/// call without SSE4.1).
-int floorInt(double t) {
-  const int i = static_cast<int>(t);
-  return static_cast<double>(i) > t ? i - 1 : i;
-}
-int ceilInt(double t) {
-  const int i = static_cast<int>(t);
-  return static_cast<double>(i) < t ? i + 1 : i;
-}
-
-/// The edges of a face's horizontal projection, prepared for slicing by vertical lines x = const.
-struct ProjectedEdges {
-  struct Edge {
-    double x_min, x_max;  ///< x range of the edge
-    double x0, y0;        ///< start point
-    double y1;            ///< end point's y
-    double slope;         ///< dy/dx (unused if parallel)
-    bool parallel;        ///< (nearly) parallel to the slicing lines: the slice takes all of it
-  };
-  std::array<Edge, 3> edges;
-
-  explicit ProjectedEdges(const SampleGeometry& g) {
-    const std::array<Eigen::Vector2d, 3> corners{Eigen::Vector2d(g.x0, g.y0), Eigen::Vector2d(g.x0 + g.bx, g.y0 + g.by),
-                                                 Eigen::Vector2d(g.x0 + g.cx, g.y0 + g.cy)};
-    for (int e = 0; e < 3; ++e) {
-      const Eigen::Vector2d& p = corners[e];
-      const Eigen::Vector2d& q = corners[(e + 1) % 3];
-      const double dx = q.x() - p.x();
-      Edge& edge = edges[e];
-      edge.x_min = std::min(p.x(), q.x());
-      edge.x_max = std::max(p.x(), q.x());
-      edge.x0 = p.x();
-      edge.y0 = p.y();
-      edge.y1 = q.y();
-      edge.parallel = std::abs(dx) < kSliceToleranceM;
-      edge.slope = edge.parallel ? 0.0 : (q.y() - p.y()) / dx;
-    }
-  }
-
-  /// The y range [y_lo, y_hi] (a superset, up to rounding) of the projection on the line at x;
-  /// false if the line misses it (farther than kSliceToleranceM).
-  bool slice(double x, double& y_lo, double& y_hi) const {
-    y_lo = std::numeric_limits<double>::infinity();
-    y_hi = -y_lo;
-    for (const Edge& e : edges) {
-      if (x < e.x_min - kSliceToleranceM || x > e.x_max + kSliceToleranceM) continue;
-      if (e.parallel) {
-        y_lo = std::min({y_lo, e.y0, e.y1});
-        y_hi = std::max({y_hi, e.y0, e.y1});
-        continue;
-      }
-      const double y = e.y0 + (std::clamp(x, e.x_min, e.x_max) - e.x0) * e.slope;
-      y_lo = std::min(y_lo, y);
-      y_hi = std::max(y_hi, y);
-    }
-    return y_lo <= y_hi;
-  }
-};
 
 /// A least-squares plane z = a x + b y + d through points added one by one: the six distinct sums
 /// of its symmetric normal matrix and its right-hand side, the origin (0, 0, 0) counted.
@@ -130,6 +60,8 @@ struct PlaneSums {
 LayerComputer::LayerComputer(const RobotProfile& profile)
     : profile_(profile),
       radius_m_(profile.footprintCircumradiusM()),
+      half_length_m_(0.5 * profile.footprint_length_m),
+      half_width_m_(0.5 * profile.footprint_width_m),
       k_(kSamplesPerRadius),
       band_down_m_(std::max(profile.min_clearance_m, 2.0 * profile.max_step_m)),
       clearance_search_m_(std::max(3.0 * profile.min_clearance_m, 5.0)),
@@ -199,103 +131,6 @@ void LayerComputer::setDriveHeading(const StoredFace& f) const {
   heading_axes_.resize(fixed_headings_);
   if (f.layers.evidence != Evidence::kDriven || !(f.drive_axis.squaredNorm() > 0)) return;
   addHeading(std::atan2(f.drive_axis.y(), f.drive_axis.x()));
-}
-
-void LayerComputer::sampleGround(const SurfaceStore& store, const Eigen::Vector3d& c, bool driven_only) const {
-  const int K = k_;
-  z_.assign(offsets_.size(), std::numeric_limits<double>::quiet_NaN());
-  level_.assign(offsets_.size(), kNoGround);
-  z_relief_.assign(offsets_.size(), 0.0);
-  const double spacing = spacing_m_;
-  // Grid indices that may fall in [lo, hi] (one node of margin for rounding; NaN: all).
-  const auto first = [&](double lo, double centre) {
-    const double t = (lo - centre) / spacing;
-    if (!(t > -K)) return -K;
-    return t > K ? K + 1 : std::max(-K, floorInt(t) - 1);
-  };
-  const auto last = [&](double hi, double centre) {
-    const double t = (hi - centre) / spacing;
-    if (!(t < K)) return K;
-    return t < -K ? -K - 1 : std::min(K, floorInt(t) + 1);
-  };
-  // Grid indices of the nodes at or above lo, at or below hi (NaN: all).
-  const auto ceilIndex = [&](double lo, double centre) {
-    const double t = (lo - centre) / spacing;
-    if (!(t > -K)) return -K;
-    return t > K ? K + 1 : ceilInt(t);
-  };
-  const auto floorIndex = [&](double hi, double centre) {
-    const double t = (hi - centre) / spacing;
-    if (!(t < K)) return K;
-    return t < -K ? -K - 1 : floorInt(t);
-  };
-  // Candidate by candidate (in the order of candidates_), each over the samples in its box: per
-  // sample, the same candidates in the same order as a sample-by-sample search, so the same result.
-  for (Slot t : candidates_) {
-    const SampleGeometry& g = store.geometry(t);
-    if (!g.sampleable) continue;  // heightAt finds nothing on it
-    // Steiner faces are invented: they mark a sample as unknown, never as ground (measured ground
-    // anywhere in the band wins, whatever its distance).
-    const char level = g.steiner || (driven_only && !g.driven) ? kUnknownGround
-                       : g.normal_z >= cos_max_slope_        ? kLevelGround
-                                                             : kSteepGround;
-    const int i0 = first(g.box_min.x(), c.x()), i1 = last(g.box_max.x(), c.x());
-    const int j0 = first(g.box_min.y(), c.y()), j1 = last(g.box_max.y(), c.y());
-    const ProjectedEdges edges(g);
-    for (int i = i0; i <= i1; ++i) {
-      // Only the samples of this column near the triangle's slice [y_lo, y_hi] at its x.
-      double y_lo = 0, y_hi = 0;
-      if (!edges.slice(c.x() + i * spacing, y_lo, y_hi)) continue;
-      const int j_lo = std::max(j0, ceilIndex(y_lo - kSliceToleranceM, c.y()));
-      const int j_hi = std::min(j1, floorIndex(y_hi + kSliceToleranceM, c.y()));
-      for (int j = j_lo; j <= j_hi; ++j) {
-        const int k = offset_index_[static_cast<std::size_t>((i + K) * (2 * K + 1) + j + K)];
-        if (k < 0) continue;
-        const Eigen::Vector2d& o = offsets_[static_cast<std::size_t>(k)];
-        const double x = c.x() + o.x(), y = c.y() + o.y();
-        if (g.box_min.x() > x || g.box_max.x() < x || g.box_min.y() > y || g.box_max.y() < y) continue;
-        const std::optional<double> z = g.heightAt(x, y);
-        const double ref_z = ref_[static_cast<std::size_t>(k)];
-        if (!z || *z < ref_z - band_down_m_ || *z > ref_z + profile_.min_clearance_m) continue;
-        double& best = z_[static_cast<std::size_t>(k)];
-        char& best_level = level_[static_cast<std::size_t>(k)];
-        if (level == kUnknownGround) {
-          if (best_level == kNoGround) best_level = kUnknownGround;
-          continue;
-        }
-        const bool measured = best_level == kLevelGround || best_level == kSteepGround;
-        const double d = std::abs(*z - ref_z), best_d = measured ? std::abs(best - ref_z) : 0.0;
-        if (!measured || d < best_d || (d == best_d && *z < best)) {
-          best = *z;
-          best_level = level;
-          z_relief_[static_cast<std::size_t>(k)] = g.relief_m;
-        }
-      }
-    }
-  }
-  if (driven_only) markUnseenColumns(store, c);
-}
-
-void LayerComputer::markUnseenColumns(const SurfaceStore& store, const Eigen::Vector3d& c) const {
-  for (std::size_t k = 0; k < offsets_.size(); ++k) {
-    if (level_[k] != kNoGround) continue;
-    const double x = c.x() + offsets_[k].x(), y = c.y() + offsets_[k].y();
-    // The first face over the sample's reference height: facing down, it is the lid over space the
-    // rays carved (a hole or a drop, ground missing); facing up, the sample lies in matter nobody
-    // carved; none, beyond the map.
-    double first_z = std::numeric_limits<double>::infinity();
-    bool carved = false;
-    store.forEachAt(x, y, [&](Slot u) {
-      if (!store.bounds(u).alive) return;
-      const SampleGeometry& g = store.geometry(u);
-      if (!g.sampleable) return;
-      const std::optional<double> z = g.heightAt(x, y);
-      if (!z || *z <= ref_[k] || *z >= first_z) return;
-      first_z = *z;
-      carved = g.normal_z < 0;
-    });
-    if (!carved) level_[k] = kNoDataGround;
-  }
 }
 
 void LayerComputer::prepareSamples(const Eigen::Vector3d& c, bool steep) const {
@@ -385,9 +220,8 @@ LayerComputer::HeadingResult LayerComputer::judgeHeading(const std::vector<int>&
   return out;
 }
 
-LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
+LayerComputer::Reference LayerComputer::referencePlane(const StoredFace& f) const {
   const Eigen::Vector3d& n = f.normal_L;
-  const Eigen::Vector3d& c = f.centroid_L;
   Reference r;
   r.slope_deg =
       n.squaredNorm() > 0 ? static_cast<float>(std::acos(std::clamp(n.z(), -1.0, 1.0)) * kRadToDeg) : 90.0f;
@@ -395,6 +229,12 @@ LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
   // Reference plane z = c.z + a x + b y (x, y relative to the centroid).
   r.ref_a = r.steep ? 0.0 : -n.x() / n.z();
   r.ref_b = r.steep ? 0.0 : -n.y() / n.z();
+  return r;
+}
+
+LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
+  const Eigen::Vector3d& c = f.centroid_L;
+  Reference r = referencePlane(f);
   // Only faces reaching the samples' height band can be ground: the reference plane stays within
   // |grad| R of the centroid over the footprint (widened far beyond rounding).
   // Faces judged at several points: their obstacles lie within reachM() of any of them.
@@ -406,6 +246,7 @@ LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
   // change after this window is set: the window holds that point whatever the evidence.
   spread = std::max(spread, centreLinePoint(f).norm());
   // Measured obstacles may extend up to max_obstacle_extension_m beyond their faces.
+  r.window.spread_m = spread;
   r.window.obstacle_reach_m = footprintReachM(profile_.evidence.max_obstacle_extension_m) + spread;
   const double reach = r.window.obstacle_reach_m;
   const double ref_spread = std::hypot(r.ref_a, r.ref_b) * reach + 1e-6 * (1.0 + reach);
@@ -416,6 +257,14 @@ LayerComputer::Reference LayerComputer::reference(const StoredFace& f) const {
 
 LayerComputer::GroundWindow LayerComputer::groundWindow(const StoredFace& face) const {
   return reference(face).window;
+}
+
+bool LayerComputer::withinOwnReach(const SampleGeometry& t, const Eigen::Vector3d& c, const GroundWindow& w) const {
+  // Its parts, grown by its own extension, reach no footprint the face is judged with beyond
+  // this (mayAffect's test, on its box: never farther than its projection).
+  const double reach = obstacleReachM(w, obstacleExtensionM(t)) * (1 + 1e-9) + 1e-6;
+  const Eigen::Vector2d gap = (t.box_min - c.head<2>()).cwiseMax(c.head<2>() - t.box_max).cwiseMax(0.0);
+  return gap.squaredNorm() <= reach * reach;
 }
 
 void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Reference& reference_plane,
@@ -439,7 +288,7 @@ void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Refer
     const FaceBounds& g = store.bounds(t);
     if (!g.alive || g.max_z < z_lo || g.min_z > z_hi) return;
     if ((g.box_min.array() > obstacle_hi.array()).any() || (g.box_max.array() < obstacle_lo.array()).any()) return;
-    if (t != s && mayObstruct(g)) {
+    if (t != s && mayObstruct(g) && withinOwnReach(store.geometry(t), c, reference_plane.window)) {
       Obstacle o;
       const SampleGeometry& tg = store.geometry(t);
       // Under driven ground the robot's body swept the volume above. A non-ground face anchored on

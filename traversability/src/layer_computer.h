@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -148,10 +149,26 @@ class LayerComputer {
   /// centroid and normal only.
   struct GroundWindow {
     double z_lo = 0, z_hi = 0;
-    /// Horizontal reach of the face's obstacle test from its centroid: reachM(), more for a face
-    /// judged at several points.
+    /// How far from its centroid the face's obstacle test is judged (the farthest of the points of
+    /// obstaclePoints and centreLinePoint): 0 for most faces.
+    double spread_m = 0;
+    /// Horizontal reach of the face's obstacle test from its centroid for obstacles that may extend
+    /// the most (max_obstacle_extension_m): the footprint's reach grown by that, plus spread_m.
     double obstacle_reach_m = 0;
   };
+  /// Horizontal reach of the obstacle test of a face with window `w` for obstacles that may extend
+  /// `extension_m` (those of a face whose obstacleExtensionM is that): an obstacle part farther
+  /// from the face's centroid meets no footprint the face is judged with, grown by its extension.
+  double obstacleReachM(const GroundWindow& w, double extension_m) const {
+    if (profile_.footprint == FootprintShape::kDisc) return radius_m_ + extension_m + w.spread_m;
+    // footprintReachM's corner, by sqrt (std::hypot is far slower, and this is asked per face pair).
+    const double a = half_length_m_ + extension_m, b = half_width_m_ + extension_m;
+    return std::sqrt(a * a + b * b) + w.spread_m;
+  }
+  /// How far a measured obstacle part of a face whose longest horizontal edge is `span_m` may
+  /// extend beyond it (EvidenceModel::obstacle_extension times the span, at most
+  /// max_obstacle_extension_m); possible obstacles do not extend.
+  double obstacleExtensionM(double span_m) const;
   GroundWindow groundWindow(const StoredFace& face) const;
   /// Whether the unconfirmed point p (L) lies inside the body of face f: within
   /// unconfirmedReachM() of the face's horizontal projection, and between max_step_m and
@@ -163,12 +180,13 @@ class LayerComputer {
   /// removing t changes no local layer of that face: computeLocal skips t in both searches.
   /// `distance_m`: the horizontal distance from c to t's projection.
   bool mayAffect(const Eigen::Vector3d& c, const GroundWindow& w, const FaceBounds& t, bool t_sampleable,
-                 double distance_m) const {
+                 double t_span_m, double distance_m) const {
     // The three filters of computeLocal, on t's height range: obstacles (any measured face that
-    // is not ground, sampleable or not, within the window), ground and ceiling (both skip faces
+    // is not ground, sampleable or not, within the window and within the reach of its own
+    // extension; t_span_m: its longest horizontal edge), ground and ceiling (both skip faces
     // heightAt cannot sample).
     if (mayObstruct(t) && !(t.max_z < w.z_lo || t.min_z > w.z_hi) &&
-        distance_m <= w.obstacle_reach_m * (1 + 1e-9) + 1e-6) {
+        distance_m <= obstacleReachM(w, obstacleExtensionM(t_span_m)) * (1 + 1e-9) + 1e-6) {
       return true;
     }
     if (!t_sampleable || distance_m > radius_m_ * (1 + 1e-9) + 1e-6) return false;
@@ -237,6 +255,8 @@ class LayerComputer {
     GroundWindow window;
   };
   Reference reference(const StoredFace& face) const;
+  /// The same without the window: the slope and the reference plane only.
+  Reference referencePlane(const StoredFace& face) const;
   /// The points (relative to the centroid, horizontal) where the obstacle test judges a face: a
   /// ground face whose horizontal projection is larger than the footprint at the centroids of its
   /// 1-to-9 split (each moved towards the centroid to within reachM() of it), any other face at
@@ -390,8 +410,11 @@ class LayerComputer {
   /// (the robot stood there).
   HeadingResult judgeHeading(const std::vector<int>& samples, double ref_a, double ref_b, bool steep,
                              double own_relief_m, bool driven) const;
+  /// Whether obstacle face t lies within the reach of its own extension (obstacleReachM) of the
+  /// face with centroid c and window w, by its box: farther, no part of it can count there.
+  bool withinOwnReach(const SampleGeometry& t, const Eigen::Vector3d& c, const GroundWindow& w) const;
   /// How far the measured obstacle face t may extend beyond what was measured of it.
-  double obstacleExtensionM(const SampleGeometry& t) const;
+  double obstacleExtensionM(const SampleGeometry& t) const { return obstacleExtensionM(t.span_m); }
   /// Sets the extension of o, a measured obstacle part of face t relative to centroid c:
   /// obstacleExtensionM(t), and for a face steeper than 30 degrees (kMinFrontNormalXy), or than 10
   /// degrees and descending below the body towards its front (kMinSlantFrontNormalXy), its front
@@ -438,6 +461,7 @@ class LayerComputer {
 
   RobotProfile profile_;
   double radius_m_;
+  double half_length_m_, half_width_m_;  ///< of a rectangular footprint
   int k_;  ///< samples per circumradius along each grid axis
   double spacing_m_ = 0;
   std::vector<Eigen::Vector2d> offsets_;

@@ -91,9 +91,9 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
   return changed;
 }
 
-double LayerComputer::obstacleExtensionM(const SampleGeometry& t) const {
+double LayerComputer::obstacleExtensionM(double span_m) const {
   const EvidenceModel& m = profile_.evidence;
-  return std::min(m.obstacle_extension * t.span_m, m.max_obstacle_extension_m);
+  return std::min(m.obstacle_extension * span_m, m.max_obstacle_extension_m);
 }
 
 LayerComputer::SlopeSupport LayerComputer::slopeSupport(const SurfaceStore& store, Slot s) const {

@@ -220,7 +220,7 @@ bool LayerComputer::unconfirmedInBody(const StoredFace& f, double ref_a, double 
 }
 
 bool LayerComputer::unconfirmedInBody(const StoredFace& f, const Eigen::Vector3d& p) const {
-  const Reference r = reference(f);
+  const Reference r = referencePlane(f);
   Eigen::Vector2d offset;
   return unconfirmedInBody(f, r.ref_a, r.ref_b, p, offset);
 }
