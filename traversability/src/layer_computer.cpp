@@ -259,14 +259,6 @@ LayerComputer::GroundWindow LayerComputer::groundWindow(const StoredFace& face) 
   return reference(face).window;
 }
 
-bool LayerComputer::withinOwnReach(const SampleGeometry& t, const Eigen::Vector3d& c, const GroundWindow& w) const {
-  // Its parts, grown by its own extension, reach no footprint the face is judged with beyond
-  // this (mayAffect's test, on its box: never farther than its projection).
-  const double reach = obstacleReachM(w, obstacleExtensionM(t)) * (1 + 1e-9) + 1e-6;
-  const Eigen::Vector2d gap = (t.box_min - c.head<2>()).cwiseMax(c.head<2>() - t.box_max).cwiseMax(0.0);
-  return gap.squaredNorm() <= reach * reach;
-}
-
 void LayerComputer::collectNearby(const SurfaceStore& store, Slot s, const Reference& reference_plane,
                                   bool driven) const {
   const Eigen::Vector3d& c = store.face(s).centroid_L;

@@ -3,6 +3,7 @@
 // contact, clearance, observedness), the lethal test and the combined cost. Internal.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
@@ -168,7 +169,17 @@ class LayerComputer {
   /// How far a measured obstacle part of a face whose longest horizontal edge is `span_m` may
   /// extend beyond it (EvidenceModel::obstacle_extension times the span, at most
   /// max_obstacle_extension_m); possible obstacles do not extend.
-  double obstacleExtensionM(double span_m) const;
+  double obstacleExtensionM(double span_m) const {
+    return std::min(profile_.evidence.obstacle_extension * span_m, profile_.evidence.max_obstacle_extension_m);
+  }
+  /// obstacleReachM for the extension of a face whose longest horizontal edge is `span_m`, with
+  /// the slack of the reach tests (far more than rounding): the window's own reach when the face
+  /// may extend the most, as most faces of a camera-SLAM mesh may.
+  double ownObstacleReachM(const GroundWindow& w, double span_m) const {
+    const double e = obstacleExtensionM(span_m);
+    const double reach = e >= profile_.evidence.max_obstacle_extension_m ? w.obstacle_reach_m : obstacleReachM(w, e);
+    return reach * (1 + 1e-9) + 1e-6;
+  }
   GroundWindow groundWindow(const StoredFace& face) const;
   /// Whether the unconfirmed point p (L) lies inside the body of face f: within
   /// unconfirmedReachM() of the face's horizontal projection, and between max_step_m and
@@ -186,7 +197,7 @@ class LayerComputer {
     // extension; t_span_m: its longest horizontal edge), ground and ceiling (both skip faces
     // heightAt cannot sample).
     if (mayObstruct(t) && !(t.max_z < w.z_lo || t.min_z > w.z_hi) &&
-        distance_m <= obstacleReachM(w, obstacleExtensionM(t_span_m)) * (1 + 1e-9) + 1e-6) {
+        distance_m <= ownObstacleReachM(w, t_span_m)) {
       return true;
     }
     if (!t_sampleable || distance_m > radius_m_ * (1 + 1e-9) + 1e-6) return false;
@@ -412,7 +423,11 @@ class LayerComputer {
                              double own_relief_m, bool driven) const;
   /// Whether obstacle face t lies within the reach of its own extension (obstacleReachM) of the
   /// face with centroid c and window w, by its box: farther, no part of it can count there.
-  bool withinOwnReach(const SampleGeometry& t, const Eigen::Vector3d& c, const GroundWindow& w) const;
+  bool withinOwnReach(const SampleGeometry& t, const Eigen::Vector3d& c, const GroundWindow& w) const {
+    const double reach = ownObstacleReachM(w, t.span_m);
+    const Eigen::Vector2d gap = (t.box_min - c.head<2>()).cwiseMax(c.head<2>() - t.box_max).cwiseMax(0.0);
+    return gap.squaredNorm() <= reach * reach;
+  }
   /// How far the measured obstacle face t may extend beyond what was measured of it.
   double obstacleExtensionM(const SampleGeometry& t) const { return obstacleExtensionM(t.span_m); }
   /// Sets the extension of o, a measured obstacle part of face t relative to centroid c:

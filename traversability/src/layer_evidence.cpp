@@ -91,11 +91,6 @@ bool LayerComputer::setEvidence(SurfaceStore& store, Slot s) const {
   return changed;
 }
 
-double LayerComputer::obstacleExtensionM(double span_m) const {
-  const EvidenceModel& m = profile_.evidence;
-  return std::min(m.obstacle_extension * span_m, m.max_obstacle_extension_m);
-}
-
 LayerComputer::SlopeSupport LayerComputer::slopeSupport(const SurfaceStore& store, Slot s) const {
   const StoredFace& f = store.face(s);
   SlopeSupport out;
