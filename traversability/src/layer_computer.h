@@ -5,7 +5,6 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -161,10 +160,7 @@ class LayerComputer {
   /// `extension_m` (those of a face whose obstacleExtensionM is that): an obstacle part farther
   /// from the face's centroid meets no footprint the face is judged with, grown by its extension.
   double obstacleReachM(const GroundWindow& w, double extension_m) const {
-    if (profile_.footprint == FootprintShape::kDisc) return radius_m_ + extension_m + w.spread_m;
-    // footprintReachM's corner, by sqrt (std::hypot is far slower, and this is asked per face pair).
-    const double a = half_length_m_ + extension_m, b = half_width_m_ + extension_m;
-    return std::sqrt(a * a + b * b) + w.spread_m;
+    return footprintReachM(extension_m) + w.spread_m;
   }
   /// How far a measured obstacle part of a face whose longest horizontal edge is `span_m` may
   /// extend beyond it (EvidenceModel::obstacle_extension times the span, at most
@@ -476,7 +472,6 @@ class LayerComputer {
 
   RobotProfile profile_;
   double radius_m_;
-  double half_length_m_, half_width_m_;  ///< of a rectangular footprint
   int k_;  ///< samples per circumradius along each grid axis
   double spacing_m_ = 0;
   std::vector<Eigen::Vector2d> offsets_;
