@@ -41,6 +41,7 @@ struct Options {
   double street_length_m = 200.0;
   double station_spacing_m = traversability::TrajectoryEvidenceConfig{}.station_spacing_m;
   int body_view_ends = 2;
+  bool body_boxes = true;
 };
 
 /// What the CLI decides for the evidence: the sensor height from the profile, else from the data.
@@ -57,6 +58,7 @@ Setup decide(const bench::BenchStream& s, const traversability::RobotProfile& pr
   setup.profile = profile;
   setup.evidence_config.station_spacing_m = options.station_spacing_m;
   setup.evidence_config.body_views_from_both_ends = options.body_view_ends == 2;
+  setup.evidence_config.body_boxes = options.body_boxes;
   setup.evidence_config.validate();
   setup.frame.up_W = s.up_W;
   setup.frame.metres_per_unit = s.stream.metres_per_unit;
@@ -196,11 +198,15 @@ int main(int argc, char** argv) {
                  "keyframe's base only (1)")
       ->capture_default_str()
       ->check(CLI::Range(1, 2));
+  bool no_body_boxes = false;
+  app.add_flag("--no-body-boxes", no_body_boxes,
+               "the body views' rays only, without the body's free boxes (ablation)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
+  options.body_boxes = !no_body_boxes;
   try {
     const bench::BenchStream s =
         options.stream.empty() ? bench::builtinStreet(options.street_length_m) : bench::fileStream(options.stream);

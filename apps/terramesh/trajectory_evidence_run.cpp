@@ -113,7 +113,9 @@ std::string TrajectoryEvidenceRun::settings() const {
   text.precision(17);
   text << "sensor_height_m=" << sensor_height_m_ << " samples=" << evidence_->samplesPerKeyframe()
        << " station_spacing_m=" << station_spacing_m_ << " underside_depth_m=" << underside_depth_m_
-       << " body_views=1 body_view_ends=2 later_obstacles=1 later_obstacle_views=" << later_obstacle_min_views_
+       << " body_views=1 body_view_ends=2 body_box_floor_m="
+       << traversability::TrajectoryEvidenceConfig{}.body_box_floor_m
+       << " later_obstacles=1 later_obstacle_views=" << later_obstacle_min_views_
        << " turns=curve start_body=footprint";
   return text.str();
 }

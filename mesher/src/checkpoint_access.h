@@ -46,6 +46,11 @@ class CheckpointAccess {
   static void writeRegistry(const PointRegistry& registry, const MapState& state, ByteWriter& out,
                             const Numbering& numbering);
   static void readRegistry(PointRegistry& registry, ByteReader& in, const Handles& handles);
+  /// The keyframes' free boxes (FreeBoxIndex), by keyframe slot.
+  static void writeFreeBoxes(const MapState& state, ByteWriter& out);
+  /// @throw terramesh::InputError (from `in`) for a slot that is no live keyframe, a slot listed
+  ///        twice, or a box whose centre, rotation or half extents are not finite and positive.
+  static void readFreeBoxes(MapState& state, ByteReader& in);
   static void writeSurfaceLog(const SurfaceLog& log, ByteWriter& out);
   static void readSurfaceLog(SurfaceLog& log, ByteReader& in);
   /// The ball pass's memory of refused balls (Grower::ball_refusals_), sorted by cell uid.

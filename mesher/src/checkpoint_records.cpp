@@ -218,6 +218,49 @@ void CheckpointAccess::readRegistry(PointRegistry& registry, ByteReader& in, con
   registry.rebuildWaiting();
 }
 
+void CheckpointAccess::writeFreeBoxes(const MapState& state, ByteWriter& out) {
+  const std::vector<std::uint32_t> keyframes = state.boxes.keyframes();
+  out.u64(keyframes.size());
+  for (std::uint32_t k : keyframes) {
+    const std::vector<FreeBox> boxes = state.boxes.of(k);
+    out.u32(k);
+    out.u64(boxes.size());
+    for (const FreeBox& box : boxes) {
+      writePosition(out, box.centre_W);
+      const Eigen::Quaterniond& q = box.rotation_W_B;
+      for (double c : {q.x(), q.y(), q.z(), q.w()}) out.f64(c);
+      writePosition(out, box.half_extents);
+    }
+  }
+}
+
+void CheckpointAccess::readFreeBoxes(MapState& state, ByteReader& in) {
+  in.section("free boxes");
+  const std::size_t keyframes = in.count(4 + 8);
+  std::uint32_t last = 0;
+  for (std::size_t i = 0; i < keyframes; ++i) {
+    const std::uint32_t k = in.u32();
+    if (k >= state.registry.keyframeSlots() || !state.registry.keyframe(k).alive) {
+      in.fail("a live keyframe slot");
+    }
+    if (i > 0 && k <= last) in.fail("keyframe slots in increasing order");
+    last = k;
+    std::vector<FreeBox> boxes(in.count(80));
+    for (FreeBox& box : boxes) {
+      box.centre_W = readPosition(in);
+      const double x = in.f64(), y = in.f64(), z = in.f64(), w = in.f64();
+      box.rotation_W_B = Eigen::Quaterniond(w, x, y, z);
+      box.half_extents = readPosition(in);
+      if (!box.centre_W.allFinite() || !box.rotation_W_B.coeffs().allFinite() ||
+          !(box.rotation_W_B.norm() > 0) || !box.half_extents.allFinite() ||
+          !(box.half_extents.minCoeff() > 0)) {
+        in.fail("a free box with a finite centre, a non-zero rotation and positive half extents");
+      }
+    }
+    state.boxes.set(k, boxes);
+  }
+}
+
 void CheckpointAccess::writeSurfaceLog(const SurfaceLog& log, ByteWriter& out) {
   out.u64(log.kept_revisions_);
   out.u64(log.revision_);

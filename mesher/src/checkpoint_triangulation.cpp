@@ -281,6 +281,7 @@ void CheckpointAccess::write(const Mesher& mesher, ByteWriter& out) {
   out.u32(hint_alive ? numbering.cell(hint) : kNone);
   writeRays(state.rays, out, numbering);
   writeRegistry(state.registry, state, out, numbering);
+  writeFreeBoxes(state, out);
   writeSurfaceLog(state.surface_log, out);
   out.vector(impl.pending_removals_);
   writeBallRefusals(impl.grower_, out);
@@ -298,6 +299,7 @@ void CheckpointAccess::read(Mesher& mesher, ByteReader& in) {
   impl.editor_.hint_ = handles.cell(in, "editor hint", true);
   readRays(state.rays, in, handles);
   readRegistry(state.registry, in, handles);
+  readFreeBoxes(state, in);
   readSurfaceLog(state.surface_log, in);
   in.section("pending removals");
   impl.pending_removals_ = in.vector<std::uint32_t>();

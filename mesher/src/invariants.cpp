@@ -167,6 +167,11 @@ InvariantReport Mesher::Impl::checkInvariants() const {
     links += state_.registry.keyframe(index).points.size();
   }
   if (links != state_.registry.observationLinks()) fail("the observation link count is wrong");
+  for (std::uint32_t k : state_.boxes.keyframes()) {
+    if (k >= state_.registry.keyframeSlots() || !state_.registry.keyframe(k).alive) {
+      fail("free boxes of keyframe slot " + std::to_string(k) + ", which holds no live keyframe");
+    }
+  }
 
   // Every inserted point has exactly the rays its keyframes in range call for.
   for (std::uint32_t index = 0; index < state_.registry.pointSlots(); ++index) {

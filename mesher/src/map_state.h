@@ -6,6 +6,7 @@
 
 #include "boundary_hash.h"
 #include "cgal_types.h"
+#include "free_boxes.h"
 #include "mark_epochs.h"
 #include "mesher/mesher.h"
 #include "mesher/mesher_config.h"
@@ -24,11 +25,13 @@ struct MapState {
   explicit MapState(const MesherConfig& cfg)
       : config(cfg),
         epochs(tri),
-        grid(cfg.steinerStepUnits(), cfg.steiner_origin_offset_m / cfg.metres_per_unit, cfg.steiner_global_phase),
+        grid(cfg.steinerStepUnits(), cfg.steiner_origin_offset_m / cfg.metres_per_unit,
+             cfg.steiner_global_phase),
         hash(cfg.boundary_hash),
         outside(tri, grid, hash, epochs),
         weights(cfg.weight_crossed, cfg.weight_neighbour, cfg.weight_second_neighbour,
                 cfg.free_threshold, cfg.spread_cap),
+        boxes(1.0 / cfg.metres_per_unit),
         surface_log(Mesher::kSurfaceHistoryRevisions, cfg.surface_history_max_bytes) {
     outside.attachLog(surface_log, registry);
   }
@@ -49,17 +52,36 @@ struct MapState {
   std::uint32_t nextVertexMark() { return epochs.nextVertexMark(); }
 
   /// Whether `cell` is free space: its weight is above the threshold, or, over driven ground, a
-  /// ray to a driven-ground sample crosses it (the robot's body passed there). Under driven ground
-  /// (MesherConfig::driven_ground_up_W) only rays from beneath that ground count (freedFromBelow):
-  /// a ray from above would have passed through ground the robot drove on, while one from a camera
-  /// on the level beneath a parking deck did not. A function of the cell's rays, their keyframes
-  /// and points, and the cell's vertices only.
+  /// ray to a driven-ground sample crosses it or it meets a keyframe's free box (the robot's body
+  /// passed there). Under driven ground (MesherConfig::driven_ground_up_W) only rays from beneath
+  /// that ground count (freedFromBelow): a ray from above would have passed through ground the
+  /// robot drove on, while one from a camera on the level beneath a parking deck did not. A
+  /// function of the cell's rays, their keyframes and points, the boxes and the cell's vertices
+  /// only.
   bool isFree(const CellHandle& cell) const {
     std::array<Eigen::Vector3d, 4> over;
     int count_over = 0;
     const int side = drivenGroundSide(cell, over, count_over);
     if (side < 0) return weights.isFree(cell) && freedFromBelow(cell, over, count_over);
-    return weights.isFree(cell) || (side > 0 && cell->info().driven_crossings > 0);
+    return weights.isFree(cell) ||
+           (side > 0 && (cell->info().driven_crossings > 0 || inFreeBox(cell)));
+  }
+
+  /// Whether `cell` (finite) meets a keyframe's free box (Keyframe::free_boxes): the robot's body
+  /// was there.
+  bool inFreeBox(const CellHandle& cell) const {
+    if (boxes.empty() || tri.is_infinite(cell)) return false;
+    return boxes.meets(corners(cell));
+  }
+
+  /// The four corners of a finite cell.
+  static std::array<Eigen::Vector3d, 4> corners(const CellHandle& cell) {
+    std::array<Eigen::Vector3d, 4> out;
+    for (int i = 0; i < 4; ++i) {
+      const Point& p = cell->vertex(i)->point();
+      out[static_cast<std::size_t>(i)] = Eigen::Vector3d(p.x(), p.y(), p.z());
+    }
+    return out;
   }
 
   /// Where `cell` lies relative to the driven ground its corners stand for, judged by its centroid
@@ -137,6 +159,8 @@ struct MapState {
   PointRegistry registry;
   WeightField weights;
   GrowCandidates candidates;
+  /// The keyframes' free boxes (Keyframe::free_boxes), by registry index of their keyframe.
+  FreeBoxIndex boxes;
   std::size_t steiner_vertices = 0;
   /// Steiner vertices by lattice node (VertexKey::value of their key).
   std::unordered_map<std::uint64_t, VertexHandle> steiner_nodes;
@@ -144,5 +168,10 @@ struct MapState {
   SurfaceLog surface_log;
   std::uint32_t next_uid = 1;
 };
+
+/// Adds to the grow candidates every cell not in O that meets one of `boxes` (found by walking
+/// from the cell holding each box's centre through the cells that meet it): new free space the
+/// growing step takes up where O reaches it, as it takes up cells a new ray frees.
+void addFreeBoxCandidates(MapState& state, const std::vector<FreeBox>& boxes);
 
 }  // namespace terramesh::mesher::internal

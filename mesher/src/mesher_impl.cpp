@@ -221,7 +221,25 @@ UpdateStats Mesher::Impl::integrateKeyframe(const Keyframe& keyframe) {
     }
   }
   for (std::uint32_t index : touched) classifyPoint(index, plan, stats);
+  setFreeBoxes(k, keyframe.free_boxes, plan);
   return run(plan, stats);
+}
+
+void Mesher::Impl::setFreeBoxes(std::uint32_t k, const std::vector<FreeBox>& boxes,
+                                UpdatePlan& plan) {
+  const std::vector<FreeBox> before = state_.boxes.of(k);
+  if (before.empty() && boxes.empty()) return;
+  state_.boxes.set(k, boxes);
+  if (before.empty()) {
+    plan.new_boxes.insert(plan.new_boxes.end(), boxes.begin(), boxes.end());
+    return;
+  }
+  for (const std::vector<FreeBox>* list : {&before, &boxes}) {
+    for (const FreeBox& box : *list) {
+      const std::vector<Eigen::Vector3d> points = state_.boxes.coverage(box);
+      plan.box_changes.insert(plan.box_changes.end(), points.begin(), points.end());
+    }
+  }
 }
 
 UpdateStats Mesher::Impl::removePoints(const std::vector<PointId>& ids) {
@@ -261,6 +279,7 @@ UpdateStats Mesher::Impl::removeKeyframes(const std::vector<KeyframeId>& ids) {
   UpdatePlan plan;
   UpdateStats stats;
   for (std::uint32_t index : touched) classifyPoint(index, plan, stats);
+  for (std::uint32_t k : gone) setFreeBoxes(k, {}, plan);
   stats = run(plan, stats);
   for (std::uint32_t k : gone) registry.eraseKeyframe(k);
   return stats;
@@ -304,6 +323,7 @@ UpdateStats Mesher::Impl::run(UpdatePlan& plan, UpdateStats stats) {
   }
   {
     StepClock::Scope scope(clock, Step::kGrow);
+    internal::addFreeBoxCandidates(state_, plan.new_boxes);
     grower_.grow(region ? &*region : nullptr, stats);
   }
   for (std::uint32_t index : plan.forget) {
@@ -390,6 +410,7 @@ std::optional<std::unordered_set<internal::GridKey, internal::GridKeyHash>> Mesh
     positions.push_back(state_.registry.point(index).latest_W);
   }
   for (std::uint32_t index : plan.remove) positions.push_back(state_.registry.point(index).inserted_W);
+  positions.insert(positions.end(), plan.box_changes.begin(), plan.box_changes.end());
   const bool changes = !positions.empty();
 
   if (!state_.config.local_enclosing_set) {

@@ -54,12 +54,19 @@ class Mesher::Impl {
     std::vector<internal::RayId> destroy;      ///< rays to free after untracing
     std::vector<internal::RayId> trace;        ///< rays to walk at the end (new segments)
     std::vector<Eigen::Vector3d> cameras;      ///< camera centres involved
+    /// Where free boxes went or changed (FreeBoxIndex::coverage): their region is shrunk.
+    std::vector<Eigen::Vector3d> box_changes;
+    std::vector<FreeBox> new_boxes;                ///< free boxes of a keyframe that had none
     std::uint32_t pose_changed = internal::kNone;  ///< keyframe whose pose changed, if any
   };
 
   // Bookkeeping.
   /// @throw std::invalid_argument if an observed point is known with another PointKind.
   void validateKinds(const Keyframe& keyframe) const;
+  /// Replaces keyframe `k`'s free boxes. Boxes that go or change shrink the region around them (in
+  /// `plan.box_changes`); a keyframe's first boxes only add the cells they meet to the grow
+  /// candidates (`plan.new_boxes`), as a new ray's cells are.
+  void setFreeBoxes(std::uint32_t k, const std::vector<FreeBox>& boxes, UpdatePlan& plan);
   void classifyPoint(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);
   void reconcileRays(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);
   void createRays(std::uint32_t point, UpdatePlan& plan, UpdateStats& stats);

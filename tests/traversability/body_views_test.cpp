@@ -12,6 +12,7 @@
 #include <limits>
 #include <string>
 
+#include "evaluation/road_under_path.h"
 #include "evidence_stream.h"
 #include "mesher/mesher.h"
 #include "simulated_scene.h"
@@ -33,15 +34,31 @@ const Street& street() {
   return *kStreet;
 }
 
+/// A 60 m street with the generator's own SLAM defaults (those of `terramesh generate street
+/// --seed 3`, shorter): more points per keyframe than the KITTI-like stream.
+const Street& defaultSlamStreet() {
+  static const Street* const kStreet = [] {
+    datasets::StreetSceneConfig config;
+    config.length_m = 60;
+    config.seed = 3;
+    datasets::SlamSimulationConfig slam;
+    slam.seed = 3;
+    return new Street(test_stream::simulate(datasets::buildStreetScene(config), slam));
+  }();
+  return *kStreet;
+}
+
 /// The street meshed with trajectory evidence for `robot` and its layers, with or without the
-/// body views (over both ends of each stretch, or over the previous keyframe's base only).
-LayeredMesh meshWithLayers(const RobotProfile& robot, bool body_views, bool both_ends = true) {
-  const Street& s = street();
+/// body views (over both ends of each stretch, or over the previous keyframe's base only) and the
+/// body's boxes.
+LayeredMesh meshWithLayers(const RobotProfile& robot, bool body_views, bool both_ends = true,
+                           bool body_boxes = true, const Street& s = street()) {
   const Eigen::Vector3d up = s.scene.up_W.normalized();
   mesher::MesherConfig config = mesher::MesherConfig::forMode(mesher::MesherMode::kProposed);
   TrajectoryEvidenceConfig evidence_config;
   evidence_config.body_views = body_views;
   evidence_config.body_views_from_both_ends = both_ends;
+  evidence_config.body_boxes = body_boxes;
   TrajectoryEvidence evidence(robot, up, 1.0, datasets::StreetSceneConfig{}.camera_height_m, Eigen::Vector3d::UnitZ(),
                               evidence_config);
   evidence.configureMesher(config);
@@ -68,8 +85,8 @@ struct StripShares {
   double area_m2 = 0;
 };
 
-StripShares stripShares(const LayeredMesh& map, double half_width_m, std::uint16_t reason) {
-  const Street& s = street();
+StripShares stripShares(const LayeredMesh& map, double half_width_m, std::uint16_t reason,
+                        const Street& s = street()) {
   const Eigen::Vector3d up = s.scene.up_W.normalized();
   const double camera_height_m = datasets::StreetSceneConfig{}.camera_height_m;
   StripShares out;
@@ -104,8 +121,8 @@ StripShares stripShares(const LayeredMesh& map, double half_width_m, std::uint16
 
 /// Faces whose centroid lies in the body volume the robot swept: within `half_width_m` of the true
 /// camera path horizontally, between `low_m` and `high_m` above the true road under it.
-std::size_t facesInSweptBody(const LayeredMesh& map, double half_width_m, double low_m, double high_m) {
-  const Street& s = street();
+std::size_t facesInSweptBody(const LayeredMesh& map, double half_width_m, double low_m,
+                             double high_m, const Street& s = street()) {
   const Eigen::Vector3d up = s.scene.up_W.normalized();
   const double camera_height_m = datasets::StreetSceneConfig{}.camera_height_m;
   const auto& keyframes = s.slam.keyframes;
@@ -167,6 +184,36 @@ TEST(BodyViewsTest, TheyClearGuessedWallsBesideTheCarsDriveAndFreeMoreOfIt) {
   ASSERT_GT(with.area_m2, 100.0);
   EXPECT_LT(with.with_reason, without.with_reason);
   EXPECT_GE(with.free, without.free);
+}
+
+TEST(BodyViewsTest, TheBodysBoxesCarveWhatTheirRaysMissUnderfoot) {
+  // The views' rays reach the driven samples from a few points only. Beside a parked car, a face
+  // from two samples of a cross-section up to a point on the car can stand in the swept body with
+  // no ray through the cell under it: uncertain (a guessed wall) underfoot. The boxes carve every
+  // cell they meet. Judged by columns under the true path (evaluation::roadUnderPath).
+  const Street& s = defaultSlamStreet();
+  std::vector<Eigen::Vector3d> path;
+  for (const auto& keyframe : s.slam.keyframes) path.push_back(keyframe.true_T_W_C.translation());
+  for (const char* name : {"small_wheeled", "legged"}) {
+    const RobotProfile robot = loadRobotProfile(kRobots / (std::string(name) + ".yaml"));
+    evaluation::RoadUnderPathConfig config;
+    config.lateral_m = robot.footprint == FootprintShape::kDisc ? robot.footprint_radius_m
+                                                                : 0.5 * robot.footprint_width_m;
+    config.camera_height_m = datasets::StreetSceneConfig{}.camera_height_m;
+    const auto underfoot = [&](bool boxes) {
+      return evaluation::roadUnderPath(meshWithLayers(robot, true, true, boxes, s), path,
+                                       s.scene.up_W.normalized(), config);
+    };
+    const evaluation::RoadUnderPath with = underfoot(true), without = underfoot(false);
+    std::printf(
+        "%s: underfoot free %.4f with the boxes, %.4f without; uncertain %.4f and %.4f (%.0f m of "
+        "path)\n",
+        name, with.underfoot_free_fraction, without.underfoot_free_fraction,
+        with.underfoot_uncertain_fraction, without.underfoot_uncertain_fraction,
+        with.path_length_m);
+    EXPECT_GT(with.underfoot_free_fraction, without.underfoot_free_fraction) << name;
+    EXPECT_LT(with.underfoot_uncertain_fraction, without.underfoot_uncertain_fraction) << name;
+  }
 }
 
 }  // namespace

@@ -65,6 +65,8 @@ void TrajectoryEvidenceConfig::validate() const {
   require(beneath_radius_m > 0 && beneath_radius_m <= 1000, "beneath_radius_m", beneath_radius_m, "(0, 1000]");
   require(beneath_margin_m >= 0 && beneath_margin_m <= 100, "beneath_margin_m", beneath_margin_m, "[0, 100]");
   require(layer_gap_m > 0 && layer_gap_m <= 100, "layer_gap_m", layer_gap_m, "(0, 100]");
+  require(body_box_floor_m >= 0 && body_box_floor_m <= 10, "body_box_floor_m", body_box_floor_m,
+          "[0, 10]");
   require(estimate_radius_m > 0 && estimate_radius_m <= 100, "estimate_radius_m", estimate_radius_m, "(0, 100]");
   require(min_depth_below_m >= 0 && min_depth_below_m <= 100, "min_depth_below_m", min_depth_below_m, "[0, 100]");
   require(min_points_per_keyframe >= 1, "min_points_per_keyframe", min_points_per_keyframe, "an integer >= 1");
@@ -525,7 +527,10 @@ std::vector<mesher::Keyframe> TrajectoryEvidence::bodyViewsOf(mesher::KeyframeId
     view.rotation_W_C = end.rotation_W_C;
     view.observations = it->second.curved ? seenWithinTurn(it->second, view.position_W_C, samples) : samples;
   }
-  const auto blind = [](const mesher::Keyframe& view) { return view.observations.empty(); };
+  views.front().free_boxes = sweptBoxes(it->second);
+  const auto blind = [](const mesher::Keyframe& view) {
+    return view.observations.empty() && view.free_boxes.empty();
+  };
   views.erase(std::remove_if(views.begin(), views.end(), blind), views.end());
   return views;
 }

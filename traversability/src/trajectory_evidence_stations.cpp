@@ -44,6 +44,62 @@ TrajectoryEvidence::Pose TrajectoryEvidence::stationPose(const Pose& pose, std::
   return at;
 }
 
+std::vector<mesher::FreeBox> TrajectoryEvidence::sweptBoxes(const Pose& pose) const {
+  std::vector<mesher::FreeBox> boxes;
+  const double high_m = std::min(body_high_m_, sensor_height_m_);
+  if (!config_.body_boxes || !pose.has_previous || !(high_m > config_.body_box_floor_m))
+    return boxes;
+  Pose previous = pose;
+  previous.position_W = pose.previous_position_W;
+  previous.rotation_W_C = pose.previous_rotation_W_C;
+  std::vector<Eigen::Isometry3d> bases{baseAt(pose)};
+  for (std::size_t station = 1; station <= pose.bodyStations(); ++station) {
+    bases.push_back(baseAt(stationPose(pose, station)));
+  }
+  bases.push_back(baseAt(previous));
+  const double u = metres_per_unit_;
+  // The boxes stand level on their base: on a slope the ground rises under one end of a box by
+  // the slope times its reach along the way, and its floor rises by as much.
+  Eigen::Vector3d way = bases.front().translation() - bases.back().translation();
+  const double rise = way.dot(up_W_);
+  way -= rise * up_W_;
+  const double slope = way.norm() > 0 ? std::abs(rise) / way.norm() : 0.0;
+  if (way.norm() > 0) way.normalize();
+  const auto box = [&](const Eigen::Vector3d& base_W, const Eigen::Matrix3d& R_W_B, double half_x_m,
+                       double half_y_m) {
+    const double reach_m =
+        half_x_m * std::abs(R_W_B.col(0).dot(way)) + half_y_m * std::abs(R_W_B.col(1).dot(way));
+    const double low_m = config_.body_box_floor_m + slope * reach_m;
+    mesher::FreeBox b;
+    b.centre_W = base_W + R_W_B.col(2) * (0.5 * (high_m + low_m) / u);
+    b.rotation_W_B = Eigen::Quaterniond(R_W_B);
+    b.half_extents =
+        Eigen::Vector3d(half_x_m / u, half_y_m / u, 0.5 * std::max(high_m - low_m, 0.0) / u);
+    return b;
+  };
+  const auto keep = [&](const mesher::FreeBox& b) {
+    if (b.half_extents.minCoeff() > 0) boxes.push_back(b);
+  };
+  if (!disc_) {
+    for (const Eigen::Isometry3d& base : bases)
+      keep(box(base.translation(), base.linear(), half_length_m_, half_width_m_));
+    return boxes;
+  }
+  for (std::size_t i = 0; i + 1 < bases.size(); ++i) {
+    const Eigen::Vector3d a = bases[i].translation(), b = bases[i + 1].translation();
+    Eigen::Vector3d along = (b - a) - (b - a).dot(up_W_) * up_W_;
+    const double length = along.norm();
+    if (!(length > 0)) continue;
+    along /= length;
+    Eigen::Matrix3d R_W_B;
+    R_W_B.col(0) = along;
+    R_W_B.col(1) = up_W_.cross(along);
+    R_W_B.col(2) = up_W_;
+    keep(box(0.5 * (a + b), R_W_B, 0.5 * length * u, radius_m_));
+  }
+  return boxes;
+}
+
 bool TrajectoryEvidence::followsTurn(const Pose& before, const Pose& pose, double sagitta_m) const {
   if (!config_.stations_along_turns || !(sagitta_m <= (disc_ ? radius_m_ : half_width_m_))) return false;
   Eigen::Vector3d way = pose.position_W - before.position_W;

@@ -16,7 +16,7 @@ namespace terramesh::mesher {
 /// technique switches; 9: adds the Steiner grid's sparse flag and, when set, the lattice nodes it holds
 /// (Mesher::releaseFarSteiner); 10: adds MesherConfig::steiner_global_phase after
 /// steiner_origin_offset_m.
-inline constexpr std::uint32_t kCheckpointFormatVersion = 10;
+inline constexpr std::uint32_t kCheckpointFormatVersion = 11;
 
 /// Writes the whole state of `mesher` to `out` (binary, little-endian; see docs/formats.md):
 /// a header with the magic "TMCKPT01", the format version, the payload's size and its FNV-1a

@@ -42,6 +42,17 @@ struct PointObservation {
   PointKind kind = PointKind::kSlam;
 };
 
+/// A box of observed free space in the world frame W (map units): where the robot's body was
+/// (traversability/trajectory_evidence.h). A cell that meets it is free space, unless its centroid
+/// lies below the driven ground one of its corners stands for (MapState::isFree).
+struct FreeBox {
+  Eigen::Vector3d centre_W = Eigen::Vector3d::Zero();
+  /// Rotates box-frame vectors into the world frame.
+  Eigen::Quaterniond rotation_W_B = Eigen::Quaterniond::Identity();
+  /// Half its extent along each of its axes (positive).
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
+};
+
 /// A SLAM keyframe: a camera pose and the points it observes.
 ///
 /// Sending a keyframe whose id was already sent replaces it: a new pose (a corrected keyframe)
@@ -53,6 +64,9 @@ struct Keyframe {
   /// Camera orientation: rotates camera-frame vectors into the world frame.
   Eigen::Quaterniond rotation_W_C = Eigen::Quaterniond::Identity();
   std::vector<PointObservation> observations;
+  /// Free space this keyframe vouches for beyond its rays (the robot's body volume; empty for a
+  /// SLAM keyframe). Re-sending the keyframe replaces them; removing it removes them.
+  std::vector<FreeBox> free_boxes;
 };
 
 }  // namespace terramesh::mesher

@@ -161,6 +161,13 @@ struct TrajectoryEvidenceConfig {
   /// Body views over both ends (slots 0-5); off: over the previous keyframe's base only (slots
   /// 0-2, for ablation studies).
   bool body_views_from_both_ends = true;
+  /// The body volume swept between the two keyframes also enters the mesher as free boxes
+  /// (mesher::Keyframe::free_boxes, on the first body view): every cell it meets is free, whether
+  /// or not a ray crosses it. Off: rays only (for ablation studies).
+  bool body_boxes = true;
+  /// The boxes' floor above the ground contact plane, metres: cells reaching no higher are left to
+  /// the rays (the ground's own noise stays below it).
+  double body_box_floor_m = 0.05;
 
   /// @throw std::invalid_argument listing every out-of-range field, each "key: value (expected ...)".
   void validate() const;
@@ -394,6 +401,10 @@ class TrajectoryEvidence {
     std::size_t bodyStations() const { return has_previous ? stations : 0; }
   };
   std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
+  /// The body volume swept from the previous keyframe to `pose` as boxes (Config::body_boxes): a
+  /// disc's between consecutive stations, a rectangle's at each station; level, each floor raised
+  /// by the stretch's slope times the box's reach along the way.
+  std::vector<mesher::FreeBox> sweptBoxes(const Pose& pose) const;
   /// The underside vertices of `samples` (underside_depth_m below each; none at 0).
   std::vector<mesher::PointObservation> undersidesOf(const std::vector<mesher::PointObservation>& samples) const;
   /// Marks keyframe `id` (its pose recorded) and the keyframes near it as undersided where a
