@@ -78,6 +78,7 @@ bool tetrahedronMeetsFreeBox(const std::array<Eigen::Vector3d, 4>& tet_W, const 
 void addFreeBoxCandidates(MapState& state, const std::vector<FreeBox>& boxes) {
   std::vector<CellHandle> stack;
   for (const FreeBox& box : boxes) {
+    const Eigen::Matrix3d R_B_W = box.rotation_W_B.normalized().toRotationMatrix().transpose();
     const std::uint32_t mark = state.nextMark();
     const CellHandle start = state.tri.locate(toPoint(box.centre_W));
     if (start == CellHandle() || state.tri.is_infinite(start)) continue;
@@ -86,7 +87,7 @@ void addFreeBoxCandidates(MapState& state, const std::vector<FreeBox>& boxes) {
     while (!stack.empty()) {
       const CellHandle cell = stack.back();
       stack.pop_back();
-      if (!tetrahedronMeetsFreeBox(state.corners(cell), box)) continue;
+      if (!meetsAboveFloor(state.corners(cell), box, R_B_W)) continue;
       if (!cell->info().outside()) state.candidates.add(cell);
       for (int i = 0; i < 4; ++i) {
         const CellHandle next = cell->neighbor(i);

@@ -77,10 +77,7 @@ struct MapState {
   /// The four corners of a finite cell.
   static std::array<Eigen::Vector3d, 4> corners(const CellHandle& cell) {
     std::array<Eigen::Vector3d, 4> out;
-    for (int i = 0; i < 4; ++i) {
-      const Point& p = cell->vertex(i)->point();
-      out[static_cast<std::size_t>(i)] = Eigen::Vector3d(p.x(), p.y(), p.z());
-    }
+    for (int i = 0; i < 4; ++i) out[static_cast<std::size_t>(i)] = toEigen(cell->vertex(i)->point());
     return out;
   }
 
