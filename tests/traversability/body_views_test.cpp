@@ -211,8 +211,16 @@ TEST(BodyViewsTest, TheBodysBoxesCarveWhatTheirRaysMissUnderfoot) {
         name, with.underfoot_free_fraction, without.underfoot_free_fraction,
         with.underfoot_uncertain_fraction, without.underfoot_uncertain_fraction,
         with.path_length_m);
-    EXPECT_GT(with.underfoot_free_fraction, without.underfoot_free_fraction) << name;
-    EXPECT_LT(with.underfoot_uncertain_fraction, without.underfoot_uncertain_fraction) << name;
+    // The boxes only free cells: they never take ground from the strip, and with them it reaches
+    // the 0.99. Whether the small robot's strip has cells the rays missed depends on the
+    // mesh (a clang build's has none on this street); the legged robot's wider body always has.
+    EXPECT_GE(with.underfoot_free_fraction, without.underfoot_free_fraction) << name;
+    EXPECT_LE(with.underfoot_uncertain_fraction, without.underfoot_uncertain_fraction) << name;
+    EXPECT_GE(with.underfoot_free_fraction, 0.99) << name;
+    if (std::string(name) == "legged") {
+      EXPECT_GT(with.underfoot_free_fraction, without.underfoot_free_fraction + 0.01);
+      EXPECT_LT(with.underfoot_uncertain_fraction, 0.5 * without.underfoot_uncertain_fraction);
+    }
   }
 }
 
