@@ -88,8 +88,9 @@ for seed in "${seeds[@]}"; do
   done
 done
 
-# The robot's swept footprint on each synthetic scene: the map under the camera path, within the
-# footprint's half-width (disc: radius) of it, and how far its free part lies from the truth; the
+# The robot's swept footprint on each synthetic scene: the map under the camera path (the true pose
+# of every 10 Hz frame, frames.txt of terramesh generate; the keyframes of the stream for a scene
+# generated without it), within the footprint's half-width (disc: radius) of it, and how far its free part lies from the truth; the
 # share of it the truth does not rule out for the robot (all but ground where the truth says its
 # footprint does not fit: centred off the path, it reaches beyond where the body swept) and the
 # free share of that part. The camera height is the one the run's mesh.ply records (its estimate
@@ -110,8 +111,10 @@ for seed in "${seeds[@]}"; do
     for robot_file in "${robots[@]}"; do
       robot=$(basename "$robot_file" .yaml)
       map="$out/${scene}_$robot"
+      path="$out/$scene/frames.txt"
+      [[ -f $path ]] || path="$out/$scene/stream.tmstream"
       "$terramesh" traverse-eval "$map" --gt-mesh "$out/$scene/ground_truth.ply" \
-        --road-under-path "$out/$scene/stream.tmstream" \
+        --road-under-path "$path" \
         --lateral-m "$(half_width "$robot_file")" --report "$out/${scene}_${robot}_swept.txt" --quiet
       awk -v scene="$scene" -v robot="$robot" '{ v[$1] = $2 } END {
           printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, robot,

@@ -269,9 +269,11 @@ int runGenerate(const std::vector<std::string>& args) {
   CLI::App app{"synthetic SLAM stream with ground truth", "terramesh generate"};
   app.option_defaults()->always_capture_default();
   app.footer(
-      "writes DIR/stream.tmstream, DIR/stream.json, DIR/ground_truth.ply (labels and slopes per face), "
-      "DIR/trajectory.txt (true keyframe poses, KITTI format, line i = keyframe i), DIR/generation.txt and, "
-      "for hazards, DIR/hazards.csv (each hazard with a start and goal across it); with --lidar, DIR/lidar/ "
+      "writes DIR/stream.tmstream, DIR/stream.json, DIR/ground_truth.ply (labels and slopes "
+      "per face), DIR/trajectory.txt (true keyframe poses, KITTI format, line i = keyframe i), "
+      "DIR/frames.txt (the true pose of every 10 Hz frame from the first keyframe's to the "
+      "last's, KITTI format: the path the camera took), DIR/generation.txt and, for hazards, "
+      "DIR/hazards.csv (each hazard with a start and goal across it); with --lidar, DIR/lidar/ "
       "(a KITTI odometry sequence; see docs/synthetic_data.md)");
   GenerateOptions options;
   declareOptions(app, options);
@@ -296,6 +298,13 @@ int runGenerate(const std::vector<std::string>& args) {
   datasets::PoseList keyframe_poses;
   for (const datasets::SimulatedKeyframe& keyframe : slam.keyframes) keyframe_poses.push_back(keyframe.true_T_W_C);
   datasets::writeKittiPoses(output / "trajectory.txt", keyframe_poses);
+  if (!slam.keyframes.empty()) {
+    // The path the camera took while the SLAM ran: its first keyframe's frame to its last's.
+    datasets::writeKittiPoses(
+        output / "frames.txt",
+        datasets::selectFrames(scene.frames_T_W_C, slam.keyframes.front().frame,
+                               slam.keyframes.back().frame + 1));
+  }
   std::string description = describeRun(scene, source, options, config, slam);
   if (options.measure_density) {
     description += describeDensity(datasets::measureGroundDensity(scene, bvh, slam, config));

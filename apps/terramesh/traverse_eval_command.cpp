@@ -15,16 +15,17 @@
 #include "common/atomic_file.h"
 #include "common/input_error.h"
 #include "common/plan_frame.h"
+#include "datasets/kitti_odometry_reader.h"
 #include "datasets/labeled_mesh.h"
 #include "datasets/similarity_transform.h"
 #include "datasets/stream_reader.h"
 #include "evaluation/ground_truth_traversability.h"
 #include "evaluation/mesh_refinement.h"
 #include "evaluation/road_under_path.h"
-#include "mesh_frame_hints.h"
 #include "evaluation/robot_limits.h"
 #include "evaluation/traversability_score.h"
 #include "evaluation/truth_checker.h"
+#include "mesh_frame_hints.h"
 #include "mesher/mesh_io.h"
 #include "run_extras.h"
 #include "traversability/layer_registry.h"
@@ -64,8 +65,10 @@ void declareOptions(CLI::App& app, TraverseEvalOptions& o) {
   app.add_option("--sample-edge-m", o.sample_edge_m, "map faces are split to edges <= E, each piece judged at its centroid")
       ->check(non_negative);
   app.add_option("--road-under-path", o.road_under_path,
-                 "real data: the map's classes on the road under the keyframe centres of STREAM (map units), or of "
-                 "a run's trajectory.csv; without a value (after MAP_DIR), MAP_DIR/trajectory.csv")
+                 "real data: the map's classes on the road under the keyframe centres of "
+                 "STREAM (map units), of a run's trajectory.csv, or of every pose of a KITTI "
+                 "pose file (.txt; frames.txt of terramesh generate: the camera's true path, "
+                 "frame by frame); without a value (after MAP_DIR), MAP_DIR/trajectory.csv")
       ->option_text("[STREAM]")
       ->expected(0, 1);
   app.add_option("--camera-height-m", o.camera_height_m,
@@ -380,6 +383,11 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
   std::vector<Eigen::Quaterniond> rotations;
   if (std::filesystem::path(stream_path).filename() == "trajectory.csv") {
     keyframePath(readTrajectoryCsv(stream_path), positions, rotations);
+  } else if (std::filesystem::path(stream_path).extension() == ".txt") {
+    for (const Eigen::Isometry3d& T_W_C : datasets::readKittiPoses(stream_path)) {
+      positions.push_back(T_W_C.translation());
+      rotations.emplace_back(T_W_C.linear());
+    }
   } else {
     keyframePath(datasets::readAnyStream(stream_path), positions, rotations);
   }

@@ -269,6 +269,31 @@ class StreetTest(TempDirCase):
         self.assertGreater(float(values["road_truth_fits_fraction"]), 0.95)
         self.assertLessEqual(float(values["road_truth_fits_free_m2"]), float(values["road_free_m2"]))
         self.assertGreater(float(values["road_free_where_truth_fits_fraction"]), 0.5)
+        keyframe_path_m = float(values["path_length_m"])
+
+        # The camera's true path frame by frame (frames.txt of generate, from the first keyframe's
+        # frame to the last's) instead of the keyframes: the same road, along every 10 Hz frame.
+        with open(os.path.join(data, "frames.txt")) as f:
+            frames = f.read().splitlines()
+        with open(os.path.join(data, "trajectory.txt")) as f:
+            keyframes = f.read().splitlines()
+        self.assertGreater(len(frames), len(keyframes))
+        self.assertEqual((frames[0], frames[-1]), (keyframes[0], keyframes[-1]))
+        result = run("traverse-eval", out, "--road-under-path", os.path.join(data, "frames.txt"), "--lateral-m",
+                     "0.34", "--report", report, "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(report) as f:
+            values = dict(line.split(" ", 1) for line in f.read().splitlines())
+        self.assertEqual(int(values["path_keyframes"]), len(frames))
+        self.assertAlmostEqual(float(values["path_length_m"]), keyframe_path_m, delta=0.02 * keyframe_path_m)
+        self.assertGreater(float(values["road_underfoot_free_fraction"]), 0.5)
+        bad = self.path("bad_frames.txt")
+        with open(bad, "w") as f:
+            f.write("\n".join(frames[:3] + ["1 0 0 0 0 1 0"]) + "\n")
+        result = run("traverse-eval", out, "--road-under-path", bad, "--quiet")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("bad_frames.txt", result.stderr)
+        self.assertIn("line 4", result.stderr)
 
 
 class GarageTest(TempDirCase):
