@@ -15,7 +15,7 @@ BIN = os.environ["TERRAMESH_BIN"]
 SHARED = os.environ["TERRAMESH_SHARED_DIR"]
 CHECKER = os.path.join(SHARED, "tools", "check_mesh.py")
 KITTI_POSES = os.path.join(SHARED, "data", "kitti_poses", "00.txt")
-OUTPUTS = ["stream.tmstream", "stream.json", "ground_truth.ply", "trajectory.txt", "generation.txt"]
+OUTPUTS = ["stream.tmstream", "stream.json", "ground_truth.ply", "trajectory.txt", "frames.txt", "generation.txt"]
 
 
 def run(*args):

@@ -14,7 +14,8 @@ import unittest
 
 BIN = os.environ["TERRAMESH_BIN"]
 ROBOTS = os.path.join(os.environ["TERRAMESH_SOURCE_DIR"], "traversability", "robots")
-OUTPUTS = ["stream.tmstream", "stream.json", "ground_truth.ply", "trajectory.txt", "generation.txt", "hazards.csv"]
+OUTPUTS = ["stream.tmstream", "stream.json", "ground_truth.ply", "trajectory.txt", "frames.txt", "generation.txt",
+           "hazards.csv"]
 
 
 def run(*args):
