@@ -90,12 +90,13 @@ done
 
 # The robot's swept footprint on each synthetic scene: the map under the camera path (the true pose
 # of every 10 Hz frame, frames.txt of terramesh generate; the keyframes of the stream for a scene
-# generated without it), within the footprint's half-width (disc: radius) of it, and how far its free part lies from the truth; the
-# share of it the truth does not rule out for the robot (all but ground where the truth says its
-# footprint does not fit: centred off the path, it reaches beyond where the body swept) and the
-# free share of that part. The camera height is the one the run's mesh.ply records (its estimate
-# from the data). "underfoot": the same strip by ground area, each 0.1 m column taking the highest
-# map face in the band that does not face down (none: no surface there).
+# generated without it), within the footprint's half-width (disc: radius) of it, and how far its
+# free part lies from the truth; the share of it the truth does not rule out for the robot (all
+# but ground where the truth says its footprint does not fit: centred off the path, it reaches
+# beyond where the body swept) and the free share of that part. The camera height is the one the
+# run's mesh.ply records (its estimate from the data). "underfoot": the same strip by ground area,
+# each 0.1 m column taking the highest map face in the band that does not face down (none: no
+# surface there).
 echo
 echo "## Synthetic scenes: the swept footprint (map under the path, within the robot's half-width)"
 echo

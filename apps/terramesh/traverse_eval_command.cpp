@@ -19,6 +19,7 @@
 #include "datasets/labeled_mesh.h"
 #include "datasets/similarity_transform.h"
 #include "datasets/stream_reader.h"
+#include "datasets/tum_trajectory.h"
 #include "evaluation/ground_truth_traversability.h"
 #include "evaluation/mesh_refinement.h"
 #include "evaluation/road_under_path.h"
@@ -66,8 +67,8 @@ void declareOptions(CLI::App& app, TraverseEvalOptions& o) {
       ->check(non_negative);
   app.add_option("--road-under-path", o.road_under_path,
                  "real data: the map's classes on the road under the keyframe centres of "
-                 "STREAM (map units), of a run's trajectory.csv, or of every pose of a KITTI "
-                 "pose file (.txt; frames.txt of terramesh generate: the camera's true path, "
+                 "STREAM (map units), of a run's trajectory.csv, or of every pose of a KITTI or "
+                 "TUM pose file (.txt; frames.txt of terramesh generate: the camera's true path, "
                  "frame by frame); without a value (after MAP_DIR), MAP_DIR/trajectory.csv")
       ->option_text("[STREAM]")
       ->expected(0, 1);
@@ -384,7 +385,15 @@ void evaluateRoadUnderPath(const TraverseEvalOptions& options, const traversabil
   if (std::filesystem::path(stream_path).filename() == "trajectory.csv") {
     keyframePath(readTrajectoryCsv(stream_path), positions, rotations);
   } else if (std::filesystem::path(stream_path).extension() == ".txt") {
-    for (const Eigen::Isometry3d& T_W_C : datasets::readKittiPoses(stream_path)) {
+    // A pose file: every pose is a point of the path (KITTI 3x4 rows or TUM lines, by field count).
+    std::vector<Eigen::Isometry3d> poses;
+    if (datasets::detectPoseFileFormat(stream_path) == datasets::PoseFileFormat::kTum) {
+      for (const datasets::StampedPose& pose : datasets::readTumTrajectory(stream_path))
+        poses.push_back(pose.pose_W_C);
+    } else {
+      poses = datasets::readKittiPoses(stream_path);
+    }
+    for (const Eigen::Isometry3d& T_W_C : poses) {
       positions.push_back(T_W_C.translation());
       rotations.emplace_back(T_W_C.linear());
     }

@@ -6,6 +6,7 @@ Run by ctest with: python3 -m unittest cli_traverse_test (TERRAMESH_BIN and TERR
 """
 import csv
 import json
+import math
 import os
 import re
 import shutil
@@ -287,6 +288,19 @@ class StreetTest(TempDirCase):
         self.assertEqual(int(values["path_keyframes"]), len(frames))
         self.assertAlmostEqual(float(values["path_length_m"]), keyframe_path_m, delta=0.02 * keyframe_path_m)
         self.assertGreater(float(values["road_underfoot_free_fraction"]), 0.5)
+        # The same poses as a TUM trajectory (time, position, quaternion x y z w): the same path.
+        tum = self.path("frames_tum.txt")
+        with open(tum, "w") as f:
+            for i, line in enumerate(frames):
+                m = [float(v) for v in line.split()]
+                f.write(" ".join(repr(v) for v in [0.1 * i, m[3], m[7], m[11]] + quaternion_xyzw(m)) + "\n")
+        result = run("traverse-eval", out, "--road-under-path", tum, "--lateral-m", "0.34", "--report", report,
+                     "--quiet")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(report) as f:
+            tum_values = dict(line.split(" ", 1) for line in f.read().splitlines())
+        self.assertEqual(tum_values["path_length_m"], values["path_length_m"])
+        self.assertEqual(tum_values["path_up"], values["path_up"])
         bad = self.path("bad_frames.txt")
         with open(bad, "w") as f:
             f.write("\n".join(frames[:3] + ["1 0 0 0 0 1 0"]) + "\n")
@@ -294,6 +308,16 @@ class StreetTest(TempDirCase):
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("bad_frames.txt", result.stderr)
         self.assertIn("line 4", result.stderr)
+
+
+def quaternion_xyzw(m):
+    """The rotation of a KITTI pose line's 3x4 matrix `m` (12 numbers by rows) as x, y, z, w."""
+    r = [[m[0], m[1], m[2]], [m[4], m[5], m[6]], [m[8], m[9], m[10]]]
+    w = math.sqrt(max(0.0, 1.0 + r[0][0] + r[1][1] + r[2][2])) / 2
+    x = math.copysign(math.sqrt(max(0.0, 1.0 + r[0][0] - r[1][1] - r[2][2])) / 2, r[2][1] - r[1][2])
+    y = math.copysign(math.sqrt(max(0.0, 1.0 - r[0][0] + r[1][1] - r[2][2])) / 2, r[0][2] - r[2][0])
+    z = math.copysign(math.sqrt(max(0.0, 1.0 - r[0][0] - r[1][1] + r[2][2])) / 2, r[1][0] - r[0][1])
+    return [x, y, z, w]
 
 
 class GarageTest(TempDirCase):
