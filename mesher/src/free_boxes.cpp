@@ -223,7 +223,7 @@ bool FreeBoxIndex::meets(const std::array<Eigen::Vector3d, 4>& tet_W) const {
   return found;
 }
 
-std::vector<Eigen::Vector3d> FreeBoxIndex::coverage(const FreeBox& box) const {
+std::vector<Eigen::Vector3d> FreeBoxIndex::coverage(const FreeBox& box) {
   const Eigen::Matrix3d R_W_B = box.rotation_W_B.normalized().toRotationMatrix();
   std::vector<Eigen::Vector3d> points{box.centre_W};
   for (int corner = 0; corner < 8; ++corner) {

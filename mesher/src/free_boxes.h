@@ -39,9 +39,10 @@ class FreeBoxIndex {
   /// Whether the tetrahedron with these corners (world frame) meets one of the boxes with its
   /// centroid above that box's floor.
   bool meets(const std::array<Eigen::Vector3d, 4>& tet_W) const;
-  /// The corners of the box and points on its faces no farther apart than the index's cube: the
-  /// positions whose neighbourhood a change of this box affects.
-  std::vector<Eigen::Vector3d> coverage(const FreeBox& box) const;
+  /// The box's centre and its eight corners: the positions whose neighbourhood a change of this
+  /// box affects (the shrink region around them reaches enclosing_radius_cells Steiner cells, far
+  /// beyond any body's box).
+  static std::vector<Eigen::Vector3d> coverage(const FreeBox& box);
 
  private:
   struct Entry {

@@ -508,9 +508,7 @@ std::vector<mesher::Keyframe> TrajectoryEvidence::bodyViewsOf(mesher::KeyframeId
       overridden_.count(it->second.previous_id) != 0) {
     return {};
   }
-  Pose previous = it->second;
-  previous.position_W = it->second.previous_position_W;
-  previous.rotation_W_C = it->second.previous_rotation_W_C;
+  const Pose previous = it->second.previousEnd();
   const double height_m = std::min(body_high_m_, sensor_height_m_);
   const double side_m = disc_ ? radius_m_ : half_width_m_;
   const std::vector<mesher::PointObservation> samples = samplesAt(id, it->second);

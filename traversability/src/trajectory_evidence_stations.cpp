@@ -31,9 +31,7 @@ TrajectoryEvidence::Pose TrajectoryEvidence::stationPose(const Pose& pose, std::
   }
   // Through a turn: the cubic Hermite curve from the previous pose to this one, tangent to both
   // headings (in reverse if the robot backed), as long as the way; it rises linearly along up.
-  Pose before = pose;
-  before.position_W = pose.previous_position_W;
-  before.rotation_W_C = pose.previous_rotation_W_C;
+  const Pose before = pose.previousEnd();
   const Eigen::Vector3d rise = chord.dot(up_W_) * up_W_;
   const Eigen::Vector3d f0 = baseAt(before).linear().col(0), f1 = baseAt(pose).linear().col(0);
   const double length = (chord - rise).norm() * ((chord - rise).dot(f0 + f1) < 0 ? -1.0 : 1.0);
@@ -49,14 +47,11 @@ std::vector<mesher::FreeBox> TrajectoryEvidence::sweptBoxes(const Pose& pose) co
   const double high_m = std::min(body_high_m_, sensor_height_m_);
   if (!config_.body_boxes || !pose.has_previous || !(high_m > config_.body_box_floor_m))
     return boxes;
-  Pose previous = pose;
-  previous.position_W = pose.previous_position_W;
-  previous.rotation_W_C = pose.previous_rotation_W_C;
   std::vector<Eigen::Isometry3d> bases{baseAt(pose)};
   for (std::size_t station = 1; station <= pose.bodyStations(); ++station) {
     bases.push_back(baseAt(stationPose(pose, station)));
   }
-  bases.push_back(baseAt(previous));
+  bases.push_back(baseAt(pose.previousEnd()));
   const double u = metres_per_unit_;
   // The boxes stand level on their base: on a slope the ground rises under one end of a box by
   // the slope times its reach along the way, and its floor rises by as much.
@@ -116,9 +111,7 @@ std::vector<mesher::PointObservation> TrajectoryEvidence::seenWithinTurn(
     const Pose& pose, const Eigen::Vector3d& from_W, const std::vector<mesher::PointObservation>& samples) const {
   const auto flat = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d { return p - p.dot(up_W_) * up_W_; };
   // The curve's centre line under the bases, in 16 pieces from the previous keyframe's on.
-  Pose before = pose;
-  before.position_W = pose.previous_position_W;
-  before.rotation_W_C = pose.previous_rotation_W_C;
+  const Pose before = pose.previousEnd();
   std::vector<Eigen::Vector3d> line{flat(baseAt(before).translation())};
   Pose dense = pose;
   dense.stations = 15;

@@ -399,6 +399,13 @@ class TrajectoryEvidence {
     /// keyframe's own body covers them, and a body centred on them would reach half a footprint
     /// behind where the robot ever was.
     std::size_t bodyStations() const { return has_previous ? stations : 0; }
+    /// This pose moved to the previous keyframe's position and rotation (the way's other end).
+    Pose previousEnd() const {
+      Pose end = *this;
+      end.position_W = previous_position_W;
+      end.rotation_W_C = previous_rotation_W_C;
+      return end;
+    }
   };
   std::vector<mesher::PointObservation> samplesAt(mesher::KeyframeId id, const Pose& pose) const;
   /// The body volume swept from the previous keyframe to `pose` as boxes (Config::body_boxes): a
